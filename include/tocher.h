@@ -1,0 +1,229 @@
+/* tocher.h — public API of the tocher reconstruction core.
+ * Clough-Tocher C1 cubic reconstruction of illumination functions on planar
+ * triangulations, keeping the C0 / C-1 discontinuities the caller flags
+ * (Salesin, Lischinski & DeRose 1992), plus the baselines it is measured against.
+ *
+ * Life cycle: describe a mesh (tc_mesh_desc, caller-owned arrays) -> tc_mesh_new
+ * copies and validates it and builds its topology -> tc_recon_new computes one
+ * reconstruction (ordinates) of that mesh -> tc_locator_new indexes the mesh for
+ * point queries -> tc_eval_points / tc_eval_triangle evaluate.
+ * A tc_mesh must outlive every tc_recon and tc_locator made from it.
+ * All objects are immutable once built, so any number of threads may evaluate
+ * the same reconstruction at once. Every _free(NULL) is a no-op.
+ */
+#ifndef TOCHER_H
+#define TOCHER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TC_VERSION "0.1.0"
+#define TC_MAX_CHANNELS 16
+#define TC_CT_ORDINATES 19 /* Bézier ordinates per triangle and channel */
+
+/* ---- status and diagnostics ------------------------------------------------ */
+
+typedef enum {
+    TC_OK = 0,
+    TC_EINVAL = 1, /* the input failed validation; the diagnostics say where */
+    TC_ENOMEM = 2, /* an allocation failed */
+    TC_ELIMIT = 3  /* the input is larger than this build can index */
+} tc_status;
+
+typedef enum { TC_SEV_ERROR = 0, TC_SEV_WARNING = 1 } tc_severity;
+
+/* One finding about the input. `path` is the JSON path of the offending element
+ * in the request format of DESIGN.md §3 ("triangles[5]", "discontinuities.c0[2][3]"),
+ * so a caller that built the description from JSON can report it verbatim. */
+typedef struct {
+    tc_severity severity;
+    char path[96];
+    char message[224];
+} tc_diag;
+
+/* A bounded list of findings. Keeps the first TC_DIAGS_KEEP; counts the rest. */
+#define TC_DIAGS_KEEP 64
+typedef struct {
+    tc_diag *items;
+    int count;     /* entries kept in items */
+    int errors;    /* all errors seen, kept or not */
+    int warnings;  /* all warnings seen, kept or not */
+} tc_diags;
+
+void tc_diags_init(tc_diags *d);
+void tc_diags_free(tc_diags *d);
+void tc_diags_clear(tc_diags *d);
+/* printf-style; path may be NULL. Returns TC_EINVAL for errors, TC_OK for warnings. */
+int tc_diags_add(tc_diags *d, tc_severity sev, const char *path, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+
+/* ---- the mesh description (request format, DESIGN.md §3) ------------------- */
+
+/* A set of polylines over vertex indices; polyline i is
+ * verts[start[i] .. start[i+1]), and each consecutive pair must be a mesh edge. */
+typedef struct {
+    int32_t count;
+    const int32_t *start; /* [count + 1] */
+    const int32_t *verts;
+} tc_polylines;
+
+/* Everything a front-end sends. All arrays are caller-owned and only read during
+ * tc_mesh_new. Optional arrays are NULL (and their counts 0) when absent.
+ * "C" below is nchan; per-corner data follows the triangle's vertex order as given. */
+typedef struct {
+    int32_t nverts;
+    const double *xy;             /* [nverts][2] */
+    int32_t ntris;
+    const int32_t *tris;          /* [ntris][3], either orientation */
+    int32_t nchan;                /* 1 .. TC_MAX_CHANNELS */
+    const double *values;         /* [nverts][C] */
+
+    int32_t ncorner_values;       /* per-corner value overrides (C-1 edges) */
+    const int32_t *corner_values_tri;   /* [n] */
+    const double *corner_values;        /* [n][3][C] */
+
+    const double *gradients;      /* [nverts][C][2] or NULL */
+    const uint8_t *gradients_mask;/* [nverts], 0 = not given; NULL = all given */
+    const double *normals;        /* [nverts][C][3], N.z > 0, or NULL */
+    const uint8_t *normals_mask;  /* [nverts] or NULL */
+
+    int32_t ncorner_gradients;
+    const int32_t *corner_gradients_tri; /* [n] */
+    const double *corner_gradients;      /* [n][3][C][2] */
+    const uint8_t *corner_gradients_mask;/* [n][3], 0 = corner not given; NULL = all */
+
+    int32_t nmidpoints;           /* extra samples at edge midpoints */
+    const int32_t *midpoint_edge; /* [n][2] vertex indices */
+    const int32_t *midpoint_tri;  /* [n]: the side it belongs to, -1 = both; NULL = all -1 */
+    const double *midpoint_values;/* [n][C] */
+
+    tc_polylines c0;              /* derivative discontinuities (kinks) */
+    tc_polylines cm1;             /* value discontinuities (jumps) */
+} tc_mesh_desc;
+
+/* ---- the mesh ------------------------------------------------------------ */
+
+typedef struct tc_mesh tc_mesh;
+
+/* Copies, validates and builds the topology of a mesh. On TC_EINVAL *out is NULL
+ * and diags holds the errors (each naming the element); warnings may be added on
+ * success too. diags may be NULL. */
+int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags);
+void tc_mesh_free(tc_mesh *m);
+
+int32_t tc_mesh_vertex_count(const tc_mesh *m);
+int32_t tc_mesh_triangle_count(const tc_mesh *m);
+int tc_mesh_channel_count(const tc_mesh *m);
+const double *tc_mesh_xy(const tc_mesh *m);        /* [nverts][2] */
+const int32_t *tc_mesh_triangles(const tc_mesh *m);/* [ntris][3] as given */
+/* Value of corner k of triangle t (vertex value unless overridden): [C]. */
+const double *tc_mesh_corner_value(const tc_mesh *m, int32_t t, int k);
+
+/* Edge k of a triangle joins its corners k and (k+1)%3. */
+typedef enum { TC_CM1 = -1, TC_C0 = 0, TC_C1 = 1 } tc_continuity;
+/* The continuity flag of an edge; mesh-boundary edges report TC_CM1. */
+tc_continuity tc_mesh_edge_flag(const tc_mesh *m, int32_t t, int k);
+/* The triangle across edge k (-1 on the boundary); *nk receives its edge index. */
+int32_t tc_mesh_neighbor(const tc_mesh *m, int32_t t, int k, int *nk);
+
+/* ---- reconstructions ----------------------------------------------------- */
+
+typedef enum {
+    TC_METHOD_CLOUGH_TOCHER = 0, /* cubic, C1 except where flagged (the paper) */
+    TC_METHOD_CLOUGH_TOCHER_C1,  /* cubic, C1 everywhere: flags ignored */
+    TC_METHOD_LINEAR,            /* piecewise linear on the mesh (Gouraud) */
+    TC_METHOD_LINEAR4,           /* linear on the 4-split through the midpoint samples */
+    TC_METHOD_CONSTANT           /* one value per triangle: the corner mean */
+} tc_method;
+
+typedef enum {
+    TC_CROSS_NORMAL = 0, /* derivative normal to the edge linear (reduced HCT) */
+    TC_CROSS_SALESIN,    /* the paper's averaged, projected normal */
+    TC_CROSS_AFFINE      /* derivative towards the neighbour's centroid linear (scipy) */
+} tc_cross;
+
+typedef enum {
+    TC_WEDGES_CORRECTED = 0, /* Figure 6 with both defects fixed (DESIGN.md §1) */
+    TC_WEDGES_LITERAL        /* Figure 6 as printed */
+} tc_wedges;
+
+typedef enum {
+    TC_TANGENTS_AUTO = 0, /* per corner: given, else midpoints, else estimate */
+    TC_TANGENTS_GIVEN,    /* every corner must have a gradient or normal */
+    TC_TANGENTS_MIDPOINTS,/* every edge must have a midpoint sample */
+    TC_TANGENTS_ESTIMATE  /* least squares within each wedge, inputs ignored */
+} tc_tangents;
+
+typedef struct {
+    tc_method method;
+    tc_cross cross_boundary;
+    tc_wedges wedges;
+    tc_tangents tangents;
+} tc_options;
+
+void tc_options_default(tc_options *o);
+
+/* Names as used in requests ("clough-tocher", "normal", ...); NULL if unknown. */
+const char *tc_method_name(tc_method m);
+const char *tc_cross_name(tc_cross c);
+const char *tc_wedges_name(tc_wedges w);
+const char *tc_tangents_name(tc_tangents t);
+/* Parse a name; returns 0 and sets *out, or -1 if the name is unknown. */
+int tc_method_parse(const char *s, tc_method *out);
+int tc_cross_parse(const char *s, tc_cross *out);
+int tc_wedges_parse(const char *s, tc_wedges *out);
+int tc_tangents_parse(const char *s, tc_tangents *out);
+
+typedef struct tc_recon tc_recon;
+
+int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags *diags);
+void tc_recon_free(tc_recon *r);
+
+const tc_mesh *tc_recon_mesh(const tc_recon *r);
+const tc_options *tc_recon_options(const tc_recon *r);
+/* Coefficients per triangle and channel: 19 Bézier ordinates for the cubic
+ * methods (labels uuu vvv www uuv uuw uvv uww vvw vww cuu cvv cww ccu ccv ccw cuv
+ * cuw cvw ccc, u = the triangle's first vertex as given), 3 corner values for
+ * linear (u v w), 6 for linear4 (u v w, then the midpoints uv vw wu), 1 for
+ * constant (mean). */
+int tc_recon_coef_count(const tc_recon *r);
+const char *tc_recon_coef_label(const tc_recon *r, int i);
+const double *tc_recon_coefs(const tc_recon *r); /* [ntris][C][count] */
+/* The tangent plane used at each corner, [ntris][3][C][2] (dz/dx, dz/dy), or
+ * NULL for methods without tangent planes. */
+const double *tc_recon_corner_gradients(const tc_recon *r);
+
+/* ---- point location and evaluation ---------------------------------------- */
+
+typedef struct tc_locator tc_locator;
+
+int tc_locator_new(const tc_mesh *m, tc_locator **out);
+void tc_locator_free(tc_locator *L);
+/* The triangle that owns (x, y), or -1 outside the mesh. Every point of the
+ * mesh has exactly one owner, also on shared edges and vertices (a top-left
+ * rule on exactly computed edge tests); points on the mesh boundary belong to
+ * the triangle they touch. Cost O(log T) for well-spread meshes. */
+int32_t tc_locate(const tc_locator *L, double x, double y);
+
+/* Value [C] and, if grad is not NULL, gradient [C][2] of triangle t's piece at
+ * (x, y) — the polynomial extended if the point lies outside t. */
+void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y,
+                      double *value, double *grad);
+
+/* Evaluates n points xy[n][2]: values[n][C], grads[n][C][2] (may be NULL),
+ * tri[n] (may be NULL) = owning triangle or -1. Points outside the mesh get
+ * value 0 and gradient 0 and tri -1: never NaN. */
+void tc_eval_points(const tc_recon *r, const tc_locator *L, size_t n, const double *xy,
+                    double *values, double *grads, int32_t *tri);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* TOCHER_H */

@@ -1,0 +1,139 @@
+/* main.c — the tocher command-line tool: the JSON API of the daemon, on files.
+ * `tocher ordinates MESH.json`, `tocher eval MESH.json [POINTS.json]`; "-" is stdin. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/api.h"
+#include "tocher.h"
+
+enum { EXIT_USAGE = 2, EXIT_INPUT = 3, EXIT_IO = 4, EXIT_INTERNAL = 5 };
+
+static const char usage[] =
+    "usage: tocher <command> [arguments]\n"
+    "\n"
+    "commands:\n"
+    "  ordinates MESH.json [-o OUT]              Bezier ordinates of the reconstruction\n"
+    "  eval MESH.json [POINTS.json] [-o OUT]     values (and gradients) at points\n"
+    "  version                                   print the version\n"
+    "  help                                      this text\n"
+    "\n"
+    "MESH.json is a request as POSTed to the daemon (see api/openapi.yaml):\n"
+    "vertices, triangles, values, optional gradients, midpoints, discontinuities,\n"
+    "method, cross_boundary, wedges, tangents. For eval, \"points\" and\n"
+    "\"with_gradients\" come from POINTS.json, or from MESH.json if it has them.\n"
+    "A file name of - reads standard input. Output is JSON on standard output\n"
+    "(or OUT); errors go to standard error, naming the JSON path at fault.\n"
+    "\n"
+    "exit status: 0 ok, 2 usage, 3 invalid input, 4 file error, 5 internal error\n";
+
+typedef struct {
+    const char *cmd, *files[2], *out;
+    int nfiles;
+} args;
+
+/* Reads a whole file ("-" = stdin) into a malloc'd buffer. */
+static char *read_all(const char *path, size_t *len) {
+    FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
+    if (!f) return NULL;
+    size_t cap = 1 << 16, n = 0;
+    char *buf = malloc(cap);
+    while (buf) {
+        n += fread(buf + n, 1, cap - n, f);
+        if (n < cap) break;
+        char *grown = realloc(buf, cap *= 2);
+        if (!grown) free(buf);
+        buf = grown;
+    }
+    int failed = ferror(f);
+    if (f != stdin) fclose(f);
+    if (failed) {
+        free(buf);
+        return NULL;
+    }
+    *len = n;
+    return buf;
+}
+
+static void report(const args *a, const tc_api_result *res) {
+    for (int i = 0; i < res->diags.count; i++) {
+        const tc_diag *d = &res->diags.items[i];
+        const char *file = i >= res->second_doc && a->nfiles > 1 ? a->files[1] : a->files[0];
+        fprintf(stderr, "tocher: %s: %s%s%s%s\n", file, d->severity == TC_SEV_ERROR ? "error: " : "warning: ",
+                d->path, *d->path ? ": " : "", d->message);
+    }
+    int shown = res->diags.count, all = res->diags.errors + res->diags.warnings;
+    if (all > shown) fprintf(stderr, "tocher: ... and %d more findings\n", all - shown);
+}
+
+static int write_out(const char *path, const tc_strbuf *b) {
+    FILE *f = path ? fopen(path, "wb") : stdout;
+    if (!f) {
+        fprintf(stderr, "tocher: %s: %s\n", path, strerror(errno));
+        return EXIT_IO;
+    }
+    int ok = fwrite(b->buf, 1, b->len, f) == b->len;
+    ok &= (f == stdout ? fflush(f) : fclose(f)) == 0;
+    if (!ok) fprintf(stderr, "tocher: %s: write failed\n", path ? path : "stdout");
+    return ok ? 0 : EXIT_IO;
+}
+
+static int parse_args(int argc, char **argv, args *a) {
+    memset(a, 0, sizeof *a);
+    a->cmd = argc > 1 ? argv[1] : "help";
+    for (int i = 2; i < argc; i++) {
+        if (!strcmp(argv[i], "-o") && i + 1 < argc) a->out = argv[++i];
+        else if (a->nfiles < 2 && (argv[i][0] != '-' || !strcmp(argv[i], "-"))) a->files[a->nfiles++] = argv[i];
+        else return -1;
+    }
+    return 0;
+}
+
+static int run(const args *a) {
+    size_t len = 0, plen = 0;
+    char *body = read_all(a->files[0], &len), *pts = NULL;
+    if (!body) {
+        fprintf(stderr, "tocher: %s: %s\n", a->files[0], strerror(errno));
+        return EXIT_IO;
+    }
+    if (a->nfiles > 1 && !(pts = read_all(a->files[1], &plen))) {
+        fprintf(stderr, "tocher: %s: %s\n", a->files[1], strerror(errno));
+        free(body);
+        return EXIT_IO;
+    }
+    tc_api_result res;
+    tc_strbuf out;
+    tc_api_result_init(&res);
+    tc_strbuf_init(&out);
+    int status = !strcmp(a->cmd, "ordinates") ? tc_api_ordinates(body, len, &out, &res)
+                                              : tc_api_evaluate(body, len, pts, plen, &out, &res);
+    report(a, &res);
+    int rc = status == 200 ? write_out(a->out, &out) : status == 500 ? EXIT_INTERNAL : EXIT_INPUT;
+    tc_strbuf_free(&out);
+    tc_api_result_free(&res);
+    free(body), free(pts);
+    return rc;
+}
+
+int main(int argc, char **argv) {
+    args a;
+    if (parse_args(argc, argv, &a) < 0) {
+        fputs(usage, stderr);
+        return EXIT_USAGE;
+    }
+    if (!strcmp(a.cmd, "help") || !strcmp(a.cmd, "--help") || !strcmp(a.cmd, "-h")) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    if (!strcmp(a.cmd, "version") || !strcmp(a.cmd, "--version")) {
+        printf("tocher %s\n", TC_VERSION);
+        return 0;
+    }
+    int known = !strcmp(a.cmd, "ordinates") || !strcmp(a.cmd, "eval");
+    if (!known || a.nfiles < 1 || (!strcmp(a.cmd, "ordinates") && a.nfiles > 1)) {
+        fprintf(stderr, "tocher: %s\n\n%s", known ? "missing or extra file arguments" : "unknown command", usage);
+        return EXIT_USAGE;
+    }
+    return run(&a);
+}

@@ -1,0 +1,174 @@
+/* ct.c — the Clough-Tocher split: 19 Bézier ordinates per triangle from corner
+ * values and wedge planes (paper Figure 5), the three cross-boundary rules, and
+ * evaluation of the cubic subtriangle pieces. Geometry is local to corner 0. */
+#include <math.h>
+#include <stdio.h>
+
+#include "core/ct.h"
+#include "core/geom.h"
+#include "core/plane.h"
+
+const char *const tc__ct_labels[TC_CT_ORDINATES] = {
+    "uuu", "vvv", "www", "uuv", "uuw", "uvv", "uww", "vvw", "vww", "cuu",
+    "cvv", "cww", "ccu", "ccv", "ccw", "cuv", "cuw", "cvw", "ccc"};
+
+/* Corners are 0 = u, 1 = v, 2 = w; edge k joins corners k and k+1. */
+static const int IIJ[3][3] = {{-1, CT_UUV, CT_UUW}, {CT_UVV, -1, CT_VVW}, {CT_UWW, CT_VWW, -1}};
+static const int CII[3] = {CT_CUU, CT_CVV, CT_CWW};
+static const int CCI[3] = {CT_CCU, CT_CCV, CT_CCW};
+static const int CIJ[3] = {CT_CUV, CT_CVW, CT_CUW};
+
+typedef struct {
+    double r[3][2]; /* corners relative to corner 0 */
+    double tau[3];  /* per edge: d = (c - a) - tau (b - a) is the direction whose derivative is linear */
+} geom;
+
+static void local_geometry(const struct tc_mesh *m, int32_t t, geom *g) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    g->r[0][0] = g->r[0][1] = 0;
+    tc__sub(g->r[1], tc__vxy(m, v[1]), tc__vxy(m, v[0]));
+    tc__sub(g->r[2], tc__vxy(m, v[2]), tc__vxy(m, v[0]));
+}
+
+/* tau for `normal`: the direction from the centroid perpendicular to the edge. */
+static double tau_normal(const geom *g, int a, int b, int w) {
+    double e[2], f[2];
+    tc__sub(e, g->r[b], g->r[a]);
+    tc__sub(f, g->r[w], g->r[a]);
+    return (1.0 + tc__dot(f, e) / tc__dot(e, e)) / 3.0;
+}
+
+/* tau for `affine`: towards the neighbour's centroid, c' - c = (w' - w)/3,
+ * where the edge is C1 and has a neighbour; else from the edge midpoint to the
+ * own centroid (tau = 1/2). Both neighbours pick the same line: C1. */
+static double tau_affine(const tc_ct_input *x, int32_t t, int k, const geom *g) {
+    const struct tc_mesh *m = x->m;
+    int32_t e = 3 * t + k, t2 = m->nbr[e];
+    if (t2 < 0 || tc__eff_flag(m, x->ws->honor_flags, e) != TC_C1) return 0.5;
+    int a = k, b = (k + 1) % 3, w = (k + 2) % 3;
+    double dw[2], ca[2], eb[2];
+    tc__sub(dw, tc__vxy(m, m->tri[3 * (size_t)t2 + (size_t)(m->nbr_k[e] + 2) % 3]), tc__vxy(m, m->tri[3 * (size_t)t + w]));
+    tc__sub(eb, g->r[b], g->r[a]);
+    ca[0] = (eb[0] + (g->r[w][0] - g->r[a][0])) / 3;
+    ca[1] = (eb[1] + (g->r[w][1] - g->r[a][1])) / 3;
+    return tc__cross(dw, ca) / tc__cross(dw, eb);
+}
+
+/* The linear-derivative rule: the derivative along (c - a) - tau (b - a) is
+ * linear on edge ab, which fixes cab from the edge and vertex ordinates. */
+static double cab_linear(const double *o, int a, int b, double tau) {
+    double aaa = o[a], bbb = o[b], aab = o[IIJ[a][b]], abb = o[IIJ[b][a]];
+    return 0.5 * (o[CII[a]] + o[CII[b]]) - (1 - tau) * (0.5 * (aaa + abb) - aab) - tau * (0.5 * (aab + bbb) - abb);
+}
+
+/* The paper's rule: plane through the middle of aab-abb with the averaged
+ * normal, projected to contain the control polygon's middle leg. */
+static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geom *g, const double *o, double *cab) {
+    const struct tc_mesh *m = x->m;
+    int a = k, b = (k + 1) % 3, w = (k + 2) % 3, nc = m->nc;
+    size_t ca = 3 * (size_t)t + a, cb = 3 * (size_t)t + b;
+    int c1 = tc__eff_flag(m, x->ws->honor_flags, 3 * t + k) == TC_C1;
+    const double *src = c1 ? x->cg : x->in;
+    double gn[2], e[2], gp[2];
+    tc__avg2(src + 2 * (ca * nc + ch), src + 2 * (cb * nc + ch), gn);
+    tc__sub(e, g->r[b], g->r[a]);
+    double rise = 3 * (o[IIJ[b][a]] - o[IIJ[a][b]]); /* required g.e */
+    if (x->wedges == TC_WEDGES_CORRECTED) {
+        double s = (rise - tc__dot(gn, e)) / tc__dot(e, e);
+        gp[0] = gn[0] + s * e[0];
+        gp[1] = gn[1] + s * e[1];
+    } else {
+        double D[3] = {e[0], e[1], rise}, N[3] = {-gn[0], -gn[1], 1};
+        double q = (N[0] * D[0] + N[1] * D[1] + N[2] * D[2]) / (D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
+        double P[3] = {N[0] - q * D[0], N[1] - q * D[1], N[2] - q * D[2]};
+        if (!(P[2] > 1e-12 * hypot(P[0], hypot(P[1], P[2])))) return -1;
+        tc__normal_to_grad(P, gp);
+    }
+    double d[2] = {(2 * (g->r[w][0] - g->r[a][0]) - e[0]) / 18, (2 * (g->r[w][1] - g->r[a][1]) - e[1]) / 18};
+    *cab = 0.5 * (o[IIJ[a][b]] + o[IIJ[b][a]]) + tc__dot(gp, d);
+    return isfinite(*cab) ? 0 : -1;
+}
+
+static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef, tc_diags *dg) {
+    const struct tc_mesh *m = x->m;
+    int nc = m->nc;
+    for (int ch = 0; ch < nc; ch++) {
+        double *o = coef + ((size_t)t * nc + ch) * TC_CT_ORDINATES;
+        for (int i = 0; i < 3; i++) {
+            size_t c = 3 * (size_t)t + i;
+            const double *gi = x->cg + 2 * (c * nc + ch);
+            o[i] = x->cz[c * nc + ch];
+            for (int j = 0; j < 3; j++)
+                if (j != i)
+                    o[IIJ[i][j]] = o[i] + (gi[0] * (g->r[j][0] - g->r[i][0]) + gi[1] * (g->r[j][1] - g->r[i][1])) / 3;
+        }
+        for (int i = 0; i < 3; i++) o[CII[i]] = (o[i] + o[IIJ[i][(i + 1) % 3]] + o[IIJ[i][(i + 2) % 3]]) / 3;
+        for (int k = 0; k < 3; k++) {
+            if (x->cross != TC_CROSS_SALESIN) {
+                o[CIJ[k]] = cab_linear(o, k, (k + 1) % 3, g->tau[k]);
+            } else if (cab_salesin(x, t, k, ch, g, o, &o[CIJ[k]]) < 0) {
+                char path[48];
+                snprintf(path, sizeof path, "triangles[%d]", (int)t);
+                if (x->wedges == TC_WEDGES_LITERAL)
+                    return tc_diags_add(dg, TC_SEV_ERROR, path,
+                                        "cross_boundary \"salesin\" with wedges \"literal\": Project is singular on "
+                                        "edge %d; use wedges \"corrected\"", k);
+                return tc_diags_add(dg, TC_SEV_ERROR, path, "the cross-boundary ordinate of edge %d overflows", k);
+            }
+        }
+        for (int i = 0; i < 3; i++) o[CCI[i]] = (o[CII[i]] + o[CIJ[i]] + o[CIJ[(i + 2) % 3]]) / 3;
+        o[CT_CCC] = (o[CT_CCU] + o[CT_CCV] + o[CT_CCW]) / 3;
+    }
+    return TC_OK;
+}
+
+int tc__ct_ordinates(const tc_ct_input *x, double *coef, tc_diags *dg) {
+    for (int32_t t = 0; t < x->m->nt; t++) {
+        geom g;
+        local_geometry(x->m, t, &g);
+        for (int k = 0; k < 3; k++)
+            g.tau[k] = x->cross == TC_CROSS_AFFINE ? tau_affine(x, t, k, &g)
+                                                   : tau_normal(&g, k, (k + 1) % 3, (k + 2) % 3);
+        if (triangle(x, t, &g, coef, dg) != TC_OK) return TC_EINVAL;
+    }
+    return TC_OK;
+}
+
+/* ---- evaluation ---- */
+
+/* The ten ordinates of the subtriangle opposite corner m, as b300 b030 b003
+ * b210 b120 b201 b021 b102 b012 b111 with a = m+1, b = m+2 and c the centroid. */
+static const int SUB[3][10] = {
+    {CT_VVV, CT_WWW, CT_CCC, CT_VVW, CT_VWW, CT_CVV, CT_CWW, CT_CCV, CT_CCW, CT_CVW},
+    {CT_WWW, CT_UUU, CT_CCC, CT_UWW, CT_UUW, CT_CWW, CT_CUU, CT_CCW, CT_CCU, CT_CUW},
+    {CT_UUU, CT_VVV, CT_CCC, CT_UUV, CT_UVV, CT_CUU, CT_CVV, CT_CCU, CT_CCV, CT_CUV},
+};
+
+void tc__ct_eval_sub(const double o[TC_CT_ORDINATES], int sub, const double lam[3], const double dl1[2],
+                     const double dl2[2], double *value, double *grad) {
+    const int *s = SUB[sub];
+    int a = (sub + 1) % 3, b = (sub + 2) % 3;
+    double A = lam[a] - lam[sub], B = lam[b] - lam[sub], C = 3 * lam[sub];
+    double b300 = o[s[0]], b030 = o[s[1]], b003 = o[s[2]], b210 = o[s[3]], b120 = o[s[4]];
+    double b201 = o[s[5]], b021 = o[s[6]], b102 = o[s[7]], b012 = o[s[8]], b111 = o[s[9]];
+    /* One de Casteljau step: the quadratics qa, qb, qc (a third of the partial
+     * derivatives), then the value. No factor 3 is applied before the value, so
+     * at a corner the value is that corner's ordinate exactly. */
+    double qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
+    double qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
+    double qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
+    *value = A * qa + B * qb + C * qc;
+    if (!grad) return;
+    double D[3]; /* d value / d lam */
+    D[a] = 3 * qa;
+    D[b] = 3 * qb;
+    D[sub] = 3 * (3 * qc - qa - qb);
+    grad[0] = (D[1] - D[0]) * dl1[0] + (D[2] - D[0]) * dl2[0];
+    grad[1] = (D[1] - D[0]) * dl1[1] + (D[2] - D[0]) * dl2[1];
+}
+
+void tc__ct_eval(const double o[TC_CT_ORDINATES], const double lam[3], const double dl1[2], const double dl2[2],
+                 double *value, double *grad) {
+    int sub = lam[0] <= lam[1] ? (lam[0] <= lam[2] ? 0 : 2) : (lam[1] <= lam[2] ? 1 : 2);
+    tc__ct_eval_sub(o, sub, lam, dl1, dl2, value, grad);
+}

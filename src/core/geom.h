@@ -1,0 +1,53 @@
+/* geom.h — small planar geometry helpers shared by the core modules.
+ * Everything works on differences of points, never on raw world coordinates. */
+#ifndef TC_CORE_GEOM_H
+#define TC_CORE_GEOM_H
+
+#include <math.h>
+
+#include "core/mesh.h"
+
+/* Relative tolerance below which two edge directions count as collinear
+ * (|sin| of the angle between them). Far below any meaningful mesh angle, far
+ * above the rounding of points placed on a line by interpolation (~1e-16). */
+#define TC_COLLINEAR_TOL 1e-12
+
+static inline double tc__cross(const double a[2], const double b[2]) {
+    return a[0] * b[1] - a[1] * b[0];
+}
+static inline double tc__dot(const double a[2], const double b[2]) {
+    return a[0] * b[0] + a[1] * b[1];
+}
+static inline void tc__sub(double out[2], const double a[2], const double b[2]) {
+    out[0] = a[0] - b[0];
+    out[1] = a[1] - b[1];
+}
+
+/* Directions a and b (from a common vertex) point in opposite directions on
+ * one line: the two sides of a 180 degree wedge. */
+static inline int tc__antiparallel(const double a[2], const double b[2]) {
+    return fabs(tc__cross(a, b)) <= TC_COLLINEAR_TOL * hypot(a[0], a[1]) * hypot(b[0], b[1]) &&
+           tc__dot(a, b) < 0;
+}
+
+/* Barycentric coordinates of (x, y) in triangle t (in the given vertex order)
+ * and the constant gradients of lam[1] and lam[2]; grad lam[0] = -(dl1 + dl2).
+ * Exact at the corners: lam is (1,0,0), (0,1,0), (0,0,1) there. */
+static inline void tc__bary(const struct tc_mesh *m, int32_t t, double x, double y,
+                            double lam[3], double dl1[2], double dl2[2]) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    const double *p0 = tc__vxy(m, v[0]), *p1 = tc__vxy(m, v[1]), *p2 = tc__vxy(m, v[2]);
+    double e1[2], e2[2], d[2] = {x - p0[0], y - p0[1]};
+    tc__sub(e1, p1, p0);
+    tc__sub(e2, p2, p0);
+    double det = tc__cross(e1, e2);
+    lam[1] = tc__cross(d, e2) / det;
+    lam[2] = tc__cross(e1, d) / det;
+    lam[0] = 1.0 - lam[1] - lam[2];
+    dl1[0] = e2[1] / det;
+    dl1[1] = -e2[0] / det;
+    dl2[0] = -e1[1] / det;
+    dl2[1] = e1[0] / det;
+}
+
+#endif

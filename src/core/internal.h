@@ -1,0 +1,38 @@
+/* internal.h — functions the core modules share but the public API hides.
+ * Names carry the tc__ prefix; none of this is stable outside src/core. */
+#ifndef TC_CORE_INTERNAL_H
+#define TC_CORE_INTERNAL_H
+
+#include <stdlib.h>
+
+#include "core/mesh.h"
+
+/* Overflow-checked allocation of n elements of size sz (NULL on overflow). */
+static inline void *tc__calloc(size_t n, size_t sz) {
+    return n ? calloc(n, sz) : calloc(1, 1);
+}
+static inline void *tc__malloc(size_t n, size_t sz) {
+    if (sz && n > (size_t)-1 / sz) return NULL;
+    size_t bytes = n * sz;
+    return malloc(bytes ? bytes : 1);
+}
+
+/* ---- topology.c ---- */
+/* Vertex -> corner lists, edge adjacency, non-manifold / repeat / fold checks. */
+int tc__topology_build(struct tc_mesh *m, tc_diags *d);
+/* The corner id 3t+k whose edge k joins vertices a and b (either direction),
+ * or -1 if (a, b) is not a mesh edge. Prefers the lowest triangle index. */
+int32_t tc__find_edge(const struct tc_mesh *m, int32_t a, int32_t b);
+/* Flags the edges of the c0 and c-1 polylines of the description. */
+int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *desc, tc_diags *d);
+/* The corner of triangle t at vertex v, or -1. */
+static inline int tc__corner_of(const struct tc_mesh *m, int32_t t, int32_t v) {
+    const int32_t *tv = m->tri + 3 * (size_t)t;
+    return tv[0] == v ? 0 : tv[1] == v ? 1 : tv[2] == v ? 2 : -1;
+}
+
+/* ---- samples.c ---- */
+/* Corner values, given tangent planes and midpoint samples. */
+int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *desc, tc_diags *d);
+
+#endif

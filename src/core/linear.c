@@ -1,0 +1,90 @@
+/* linear.c — the baselines tocher is measured against: constant (one value per
+ * triangle), linear (Gouraud) and linear4 (the paper's 4-split through midpoint samples). */
+#include <string.h>
+
+#include "core/recon.h"
+
+const char *const tc__constant_labels[1] = {"mean"};
+const char *const tc__linear_labels[3] = {"u", "v", "w"};
+const char *const tc__linear4_labels[6] = {"u", "v", "w", "uv", "vw", "wu"};
+
+void tc__constant_build(const struct tc_mesh *m, double *coef) {
+    int nc = m->nc;
+    for (int32_t t = 0; t < m->nt; t++)
+        for (int ch = 0; ch < nc; ch++) {
+            const double *z = m->cz + 3 * (size_t)t * nc + ch;
+            coef[(size_t)t * nc + ch] = (z[0] + z[nc] + z[2 * nc]) / 3;
+        }
+}
+
+void tc__linear_build(const struct tc_mesh *m, double *coef) {
+    int nc = m->nc;
+    for (int32_t t = 0; t < m->nt; t++)
+        for (int ch = 0; ch < nc; ch++)
+            for (int k = 0; k < 3; k++)
+                coef[((size_t)t * nc + ch) * 3 + k] = m->cz[(3 * (size_t)t + k) * nc + ch];
+}
+
+/* Corner values then the midpoint samples of edges 0 (uv), 1 (vw), 2 (wu). An
+ * edge without a sample gets the mean of its ends: linear along that edge. */
+void tc__linear4_build(const struct tc_mesh *m, double *coef, tc_diags *dg) {
+    int nc = m->nc;
+    int32_t missing = 0;
+    for (int32_t t = 0; t < m->nt; t++)
+        for (int ch = 0; ch < nc; ch++) {
+            double *o = coef + ((size_t)t * nc + ch) * 6;
+            for (int k = 0; k < 3; k++) o[k] = m->cz[(3 * (size_t)t + k) * nc + ch];
+            for (int k = 0; k < 3; k++) {
+                size_t e = 3 * (size_t)t + k;
+                if (m->mid_has && m->mid_has[e]) {
+                    o[3 + k] = m->mid[e * nc + ch];
+                } else {
+                    o[3 + k] = 0.5 * (o[k] + o[(k + 1) % 3]);
+                    missing += ch == 0;
+                }
+            }
+        }
+    if (missing)
+        tc_diags_add(dg, TC_SEV_WARNING, "midpoints",
+                     "%d triangle edge sides have no midpoint sample; linear4 is linear along them", (int)missing);
+}
+
+void tc__constant_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2],
+                       double *value, double *grad) {
+    (void)lam, (void)dl1, (void)dl2;
+    *value = o[0];
+    if (grad) grad[0] = grad[1] = 0;
+}
+
+static void grad_from(const double D[3], const double dl1[2], const double dl2[2], double *grad) {
+    grad[0] = (D[1] - D[0]) * dl1[0] + (D[2] - D[0]) * dl2[0];
+    grad[1] = (D[1] - D[0]) * dl1[1] + (D[2] - D[0]) * dl2[1];
+}
+
+void tc__linear_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2], double *value,
+                     double *grad) {
+    *value = lam[0] * o[0] + lam[1] * o[1] + lam[2] * o[2];
+    if (grad) grad_from(o, dl1, dl2, grad);
+}
+
+/* The 4-split: the corner triangle of corner i where lam[i] >= 1/2, else the
+ * middle triangle of the three midpoints. */
+void tc__linear4_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2],
+                      double *value, double *grad) {
+    const double *mid = o + 3; /* mid[k] on edge k = (k, k+1) */
+    double D[3];
+    int i = lam[0] >= 0.5 ? 0 : lam[1] >= 0.5 ? 1 : lam[2] >= 0.5 ? 2 : -1;
+    if (i >= 0) {
+        int j = (i + 1) % 3, k = (i + 2) % 3;
+        *value = (2 * lam[i] - 1) * o[i] + 2 * lam[j] * mid[i] + 2 * lam[k] * mid[k];
+        D[i] = 2 * o[i];
+        D[j] = 2 * mid[i];
+        D[k] = 2 * mid[k];
+    } else {
+        *value = (1 - 2 * lam[2]) * mid[0] + (1 - 2 * lam[0]) * mid[1] + (1 - 2 * lam[1]) * mid[2];
+        D[0] = -2 * mid[1];
+        D[1] = -2 * mid[2];
+        D[2] = -2 * mid[0];
+    }
+    if (grad) grad_from(D, dl1, dl2, grad);
+}

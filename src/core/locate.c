@@ -1,0 +1,438 @@
+/* locate.c — point location: which triangle of a mesh owns a point (x, y).
+ * A static bounding-volume hierarchy over triangle boxes plus an exact top-left ownership rule. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "core/mesh.h"
+
+/* ==== The ownership rule =====================================================
+ *
+ * Every edge is tested in a canonical frame: its endpoints sorted by
+ * coordinates (x, then y), s < e. The coordinates decide, never the vertex
+ * indices, so two coincident copies of a vertex (a crack made by a front-end)
+ * give the same frame. The test is the sign of
+ *     val = cross(e - s, P - s) = (e.x - s.x)(P.y - s.y) - (e.y - s.y)(P.x - s.x),
+ * always evaluated as this one expression of (s, e, P), and its sign is exact:
+ * the floating-point value is used when a forward error bound certifies its
+ * sign, otherwise the same determinant is evaluated in exact expansion
+ * arithmetic (see orient_sign). So the two triangles of an edge get the same
+ * answer, and so do two collinear edges of one line (their canonical directions
+ * agree and an exact sign depends only on the side of the line). Exactness,
+ * not only bit-identical doubles, is what the fan argument below needs: with
+ * rounded signs, the three or more edges meeting near a vertex could disagree
+ * and leave a tiny region with zero or two owners. Only differences relative
+ * to s are ever multiplied, so a mesh translated by an exactly representable
+ * offset gives the same doubles and, in any case, the same exact signs.
+ *
+ * A triangle, walked counter-clockwise, has its interior to the left of each
+ * directed edge p -> q. If p < q the canonical frame runs the same way and the
+ * triangle is LEFT of s -> e; otherwise it is RIGHT of it. Ties (val == 0) go
+ * to the left triangle, i.e. the edge's own half-plane is val >= 0 for the left
+ * triangle and val < 0 for the right one. A triangle strictly owns P when P is
+ * in all three of its half-planes. Left of a canonical direction means above a
+ * non-vertical edge and to the -x side of a vertical one: a top-left fill rule.
+ *
+ * Why every point of the interior of a (conforming, non-overlapping) mesh has
+ * exactly one strict owner:
+ *  - P inside a triangle: that triangle only, all its tests are strict.
+ *  - P inside a shared edge E (not at an endpoint): only the two triangles of E
+ *    contain P, and P lies strictly inside their other two half-planes. On E,
+ *    val == 0, which puts P in the left triangle's half-plane and out of the
+ *    right one's: exactly one owner.
+ *  - P at an interior vertex v: the triangles around v form a full fan between
+ *    rays r_1 .. r_k in counter-clockwise order, t_i between r_i and r_(i+1).
+ *    At P = v both fan edges of t_i give val == 0 and the opposite edge is
+ *    strict, so t_i owns v iff it is the left triangle of both its fan edges.
+ *    Call a ray OUTgoing if its far end w > v (then s = v and the canonical
+ *    direction points away from v, whose left is the counter-clockwise side),
+ *    INcoming otherwise (canonical direction points at v, left = clockwise
+ *    side). t_i lies counter-clockwise of r_i and clockwise of r_(i+1), so it
+ *    owns v iff r_i is OUT and r_(i+1) is IN. OUT rays are those with angle in
+ *    the half-open half-circle (-90, 90] degrees, IN rays the other half. Every
+ *    triangle angle is below 180 degrees, so the rays of a full fan cannot all
+ *    lie in one half-circle: both kinds occur, each kind is contiguous in the
+ *    cyclic order, hence there is exactly one OUT -> IN step: one owner.
+ *    (For a partial fan at a boundary vertex the same count gives at most one.)
+ * Points on the outer boundary may have no strict owner (the left triangle of a
+ * boundary edge may be missing). The fallback then takes the triangle that
+ * contains P in the closed sense (every canonical test >= 0 after orientation),
+ * the lowest index if several do; points of no closed triangle are outside.
+ */
+
+/* ==== Exact orientation sign ================================================
+ * Assumes IEEE double arithmetic without excess precision (FLT_EVAL_METHOD 0,
+ * as on x86-64 and AArch64) and no overflow or underflow of the products
+ * (coordinate differences between about 1e-150 and 1e150). */
+
+/* Shewchuk's bound for the relative error of the floating-point determinant
+ * (3 + 16 eps) eps, eps = 2^-53: beyond it the computed sign is the true one. */
+#define ORIENT_ERRBOUND ((3.0 + 16.0 * 0x1p-53) * 0x1p-53)
+
+static int sign_of(double v) { return (v > 0) - (v < 0); }
+
+/* a - b == *hi + *lo exactly. */
+static void two_diff(double a, double b, double *hi, double *lo) {
+    double x = a - b, bv = a - x, av = x + bv;
+    *hi = x;
+    *lo = (a - av) + (bv - b);
+}
+
+/* a + b == *hi + *lo exactly. */
+static void two_sum(double a, double b, double *hi, double *lo) {
+    double x = a + b, bv = x - a, av = x - bv;
+    *hi = x;
+    *lo = (a - av) + (b - bv);
+}
+
+/* a * b == *hi + *lo exactly (fma rounds the residual once, and it is representable). */
+static void two_prod(double a, double b, double *hi, double *lo) {
+    *hi = a * b;
+    *lo = fma(a, b, -*hi);
+}
+
+/* Adds b to the expansion h[0 .. *n) (non-overlapping, increasing magnitude),
+ * keeping that invariant (Shewchuk's Grow-Expansion). */
+static void grow_expansion(double *h, int *n, double b) {
+    double q = b;
+    for (int i = 0; i < *n; i++) two_sum(q, h[i], &q, &h[i]);
+    h[(*n)++] = q;
+}
+
+/* The exact sign of (a0 + a1)(b0 + b1) - (c0 + c1)(d0 + d1): sixteen exact
+ * partial products summed into one expansion, whose sign is that of its most
+ * significant non-zero component. */
+static int exact_det_sign(const double a[2], const double b[2], const double c[2], const double d[2]) {
+    double h[16];
+    int n = 0;
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++) {
+            double hi, lo;
+            two_prod(a[i], b[j], &hi, &lo);
+            grow_expansion(h, &n, lo);
+            grow_expansion(h, &n, hi);
+            two_prod(c[i], d[j], &hi, &lo);
+            grow_expansion(h, &n, -lo);
+            grow_expansion(h, &n, -hi);
+        }
+    for (int i = n - 1; i >= 0; i--)
+        if (h[i] != 0) return sign_of(h[i]);
+    return 0;
+}
+
+/* The exact sign of cross(e - s, p - s). The fast path evaluates exactly the
+ * expression of the rule; only when its sign is not certified are the four
+ * differences split into exact pairs and the determinant summed exactly. */
+static int orient_sign(double sx, double sy, double ex, double ey, double px, double py) {
+    double l = (ex - sx) * (py - sy), r = (ey - sy) * (px - sx), det = l - r, sum;
+    /* Opposite-signed (or zero) products: no cancellation, the sign is exact. */
+    if (l > 0) {
+        if (r <= 0) return sign_of(det);
+        sum = l + r;
+    } else if (l < 0) {
+        if (r >= 0) return sign_of(det);
+        sum = -l - r;
+    } else {
+        return sign_of(det);
+    }
+    if (det >= ORIENT_ERRBOUND * sum || -det >= ORIENT_ERRBOUND * sum) return sign_of(det);
+    double a[2], b[2], c[2], d[2];
+    two_diff(ex, sx, &a[0], &a[1]);
+    two_diff(py, sy, &b[0], &b[1]);
+    two_diff(ey, sy, &c[0], &c[1]);
+    two_diff(px, sx, &d[0], &d[1]);
+    return exact_det_sign(a, b, c, d);
+}
+
+/* ==== The index ==============================================================
+ * Triangles live in `slots`, permuted so that each leaf's triangles are
+ * contiguous, each with its corners in counter-clockwise order and one bit per
+ * edge saying whether its corners are already in canonical order.
+ * Nodes form a flat array in depth-first order: an internal node's left child
+ * is the next node, its right child is `first`. Leaves have count >= 1. */
+
+#define LEAF_MAX 4
+/* Depth bound: splits are exact medians by count, so a node at depth k holds at
+ * most ceil(T / 2^k) triangles; with T < 2^31, depth 29 holds at most 4 and is a
+ * leaf. The traversal keeps at most one pending sibling per level. */
+#define STACK_MAX 64
+
+struct node {
+    double lo[2], hi[2]; /* box of every triangle below */
+    int32_t first;       /* leaf: first slot; internal: right child */
+    int32_t count;       /* leaf: slots [first, first + count); internal: 0 */
+};
+
+struct slot {
+    double x[3], y[3]; /* corners, counter-clockwise */
+    int32_t t;         /* the triangle's index in the mesh */
+    uint32_t left;     /* bit k: corner k < corner k+1, the triangle is left of edge k's frame */
+};
+
+struct tc_locator {
+    int32_t nnodes;
+    int depth; /* of the deepest leaf, root = 0; < STACK_MAX */
+    struct node *nodes;
+    struct slot *slots;
+};
+
+/* ---- building ---- */
+
+struct builder {
+    const double *box;   /* [T][4] per triangle: xmin, ymin, xmax, ymax */
+    const double *cen;   /* [T][2] box centres, the split keys */
+    int32_t *perm;       /* slot -> triangle */
+    struct node *nodes;
+    int32_t nnodes, cap;
+    int depth;
+    uint64_t rng;        /* fixed seed: the build is deterministic */
+};
+
+/* Total order of triangles along an axis: box centre, then index. Ties by
+ * index keep the median split exact however many centres coincide. */
+static int key_less(const struct builder *b, int axis, int32_t i, int32_t j) {
+    double ci = b->cen[2 * (size_t)i + axis], cj = b->cen[2 * (size_t)j + axis];
+    return ci < cj || (ci == cj && i < j);
+}
+
+static uint32_t next_rand(struct builder *b) {
+    b->rng ^= b->rng << 13;
+    b->rng ^= b->rng >> 7;
+    b->rng ^= b->rng << 17;
+    return (uint32_t)(b->rng >> 32);
+}
+
+static void swap_i32(int32_t *a, int32_t *c) {
+    int32_t t = *a;
+    *a = *c;
+    *c = t;
+}
+
+/* Reorders perm[lo, hi) so that perm[k] has rank k - lo, smaller keys before,
+ * larger after (quickselect, random pivot, Lomuto partition: always ends). */
+static void select_kth(struct builder *b, int axis, int32_t lo, int32_t hi, int32_t k) {
+    int32_t *p = b->perm;
+    while (hi - lo > 1) {
+        swap_i32(&p[lo + (int32_t)(next_rand(b) % (uint32_t)(hi - lo))], &p[hi - 1]);
+        int32_t pivot = p[hi - 1], store = lo;
+        for (int32_t i = lo; i < hi - 1; i++)
+            if (key_less(b, axis, p[i], pivot)) swap_i32(&p[i], &p[store++]);
+        swap_i32(&p[store], &p[hi - 1]);
+        if (k == store) return;
+        if (k < store) hi = store;
+        else lo = store + 1;
+    }
+}
+
+/* Grows the box (lo, hi) to cover the box (alo, ahi). */
+static void box_union(double lo[2], double hi[2], const double alo[2], const double ahi[2]) {
+    for (int a = 0; a < 2; a++) {
+        lo[a] = fmin(lo[a], alo[a]);
+        hi[a] = fmax(hi[a], ahi[a]);
+    }
+}
+
+/* The axis along which the centres of perm[lo, hi) spread most. */
+static int split_axis(const struct builder *b, int32_t lo, int32_t hi) {
+    double mn[2] = {INFINITY, INFINITY}, mx[2] = {-INFINITY, -INFINITY};
+    for (int32_t i = lo; i < hi; i++) {
+        const double *c = b->cen + 2 * (size_t)b->perm[i];
+        for (int a = 0; a < 2; a++) {
+            mn[a] = fmin(mn[a], c[a]);
+            mx[a] = fmax(mx[a], c[a]);
+        }
+    }
+    return mx[1] - mn[1] > mx[0] - mn[0];
+}
+
+/* Builds the subtree over perm[lo, hi) (non-empty) at the given depth and
+ * returns its node index, or -1 if the node array is full (impossible by the
+ * node-count bound, but never written past). Recursion depth is the tree's. */
+static int32_t build_node(struct builder *b, int32_t lo, int32_t hi, int depth) {
+    if (b->nnodes >= b->cap) return -1;
+    int32_t id = b->nnodes++;
+    struct node *nd = &b->nodes[id];
+    if (depth > b->depth) b->depth = depth;
+    if (hi - lo <= LEAF_MAX) {
+        *nd = (struct node){{INFINITY, INFINITY}, {-INFINITY, -INFINITY}, lo, hi - lo};
+        for (int32_t i = lo; i < hi; i++) {
+            const double *bx = b->box + 4 * (size_t)b->perm[i];
+            box_union(nd->lo, nd->hi, bx, bx + 2);
+        }
+        return id;
+    }
+    int32_t mid = lo + (hi - lo) / 2;
+    select_kth(b, split_axis(b, lo, hi), lo, hi, mid);
+    int32_t left = build_node(b, lo, mid, depth + 1); /* == id + 1: depth-first order */
+    int32_t right = left < 0 ? -1 : build_node(b, mid, hi, depth + 1);
+    if (right < 0) return -1;
+    *nd = (struct node){{INFINITY, INFINITY}, {-INFINITY, -INFINITY}, right, 0};
+    box_union(nd->lo, nd->hi, b->nodes[left].lo, b->nodes[left].hi);
+    box_union(nd->lo, nd->hi, b->nodes[right].lo, b->nodes[right].hi);
+    return id;
+}
+
+/* Lexicographic (x, then y) order of points: the canonical edge order. */
+static int point_less(double ax, double ay, double bx, double by) {
+    return ax < bx || (ax == bx && ay < by);
+}
+
+/* Fills a slot with triangle t, corners turned counter-clockwise. */
+static void fill_slot(struct slot *s, const struct tc_mesh *m, int32_t t) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    int32_t ccw[3] = {v[0], v[1], v[2]};
+    if (m->orient[t] < 0) {
+        ccw[1] = v[2];
+        ccw[2] = v[1];
+    }
+    for (int k = 0; k < 3; k++) {
+        s->x[k] = m->xy[2 * (size_t)ccw[k]];
+        s->y[k] = m->xy[2 * (size_t)ccw[k] + 1];
+    }
+    s->t = t;
+    s->left = 0;
+    for (int k = 0; k < 3; k++) {
+        int j = k == 2 ? 0 : k + 1;
+        if (point_less(s->x[k], s->y[k], s->x[j], s->y[j])) s->left |= 1u << k;
+    }
+}
+
+/* Per-triangle boxes and centres (exact: min / max of the corners, so a point
+ * of the closed triangle is always inside its box). Returns TC_EINVAL on a bad
+ * vertex index. */
+static int triangle_boxes(const struct tc_mesh *m, double *box, double *cen) {
+    for (int32_t t = 0; t < m->nt; t++) {
+        const int32_t *v = m->tri + 3 * (size_t)t;
+        double *bx = box + 4 * (size_t)t;
+        bx[0] = bx[1] = INFINITY;
+        bx[2] = bx[3] = -INFINITY;
+        for (int k = 0; k < 3; k++) {
+            if (v[k] < 0 || v[k] >= m->nv) return TC_EINVAL;
+            const double *p = m->xy + 2 * (size_t)v[k];
+            box_union(bx, bx + 2, p, p);
+        }
+        cen[2 * (size_t)t] = 0.5 * bx[0] + 0.5 * bx[2];
+        cen[2 * (size_t)t + 1] = 0.5 * bx[1] + 0.5 * bx[3];
+    }
+    return TC_OK;
+}
+
+/* Builds nodes and slots of L for mesh m (nt >= 1). */
+static int build_index(struct tc_locator *L, const struct tc_mesh *m) {
+    size_t T = (size_t)m->nt;
+    double *box = malloc(T * 4 * sizeof *box), *cen = malloc(T * 2 * sizeof *cen);
+    int32_t *perm = malloc(T * sizeof *perm);
+    /* A split node holds > LEAF_MAX triangles, so its halves hold >= 2 each:
+     * unless the root is the only node, every leaf holds >= 2 triangles, so
+     * there are <= T / 2 leaves and < T nodes in all. */
+    L->nodes = malloc(T * sizeof *L->nodes);
+    L->slots = malloc(T * sizeof *L->slots);
+    int rc = TC_ENOMEM;
+    if (box && cen && perm && L->nodes && L->slots) rc = triangle_boxes(m, box, cen);
+    if (rc == TC_OK) {
+        for (int32_t t = 0; t < m->nt; t++) perm[t] = t;
+        struct builder b = {box, cen, perm, L->nodes, 0, m->nt, 0, 0x9E3779B97F4A7C15ull};
+        int32_t root = build_node(&b, 0, m->nt, 0);
+        L->nnodes = b.nnodes;
+        L->depth = b.depth;
+        /* Unreachable by the median and node-count arguments; checked so that
+         * neither the node array nor the fixed query stack is trusted blindly. */
+        if (root != 0 || L->depth >= STACK_MAX) rc = TC_ELIMIT;
+        /* Give back the unused tail of the node array (keep it if realloc fails). */
+        struct node *fit = rc == TC_OK ? realloc(L->nodes, (size_t)b.nnodes * sizeof *fit) : NULL;
+        if (fit) L->nodes = fit;
+        for (int32_t i = 0; i < m->nt; i++) fill_slot(&L->slots[i], m, perm[i]);
+    }
+    free(box);
+    free(cen);
+    free(perm);
+    return rc;
+}
+
+int tc_locator_new(const tc_mesh *m, tc_locator **out) {
+    if (!out) return TC_EINVAL;
+    *out = NULL;
+    if (!m || m->nt < 0 || (m->nt > 0 && (!m->xy || !m->tri || !m->orient))) return TC_EINVAL;
+    if ((size_t)m->nt > SIZE_MAX / sizeof(struct slot)) return TC_ELIMIT;
+    struct tc_locator *L = calloc(1, sizeof *L);
+    if (!L) return TC_ENOMEM;
+    if (m->nt > 0) {
+        int rc = build_index(L, m);
+        if (rc != TC_OK) {
+            tc_locator_free(L);
+            return rc;
+        }
+    }
+    *out = L;
+    return TC_OK;
+}
+
+void tc_locator_free(tc_locator *L) {
+    if (!L) return;
+    free(L->nodes);
+    free(L->slots);
+    free(L);
+}
+
+/* ---- querying ---- */
+
+/* Closed box test (a point on a face is inside); false for NaN coordinates. */
+static int box_contains(const struct node *nd, double x, double y) {
+    return x >= nd->lo[0] && x <= nd->hi[0] && y >= nd->lo[1] && y <= nd->hi[1];
+}
+
+enum { SLOT_OUT = 0, SLOT_TOUCH = 1, SLOT_OWN = 2 };
+
+/* SLOT_OWN if the triangle owns P by the strict rule, SLOT_TOUCH if it only
+ * contains P in the closed sense (P on an edge whose tie goes elsewhere), else
+ * SLOT_OUT. An edge with the triangle on its left admits val >= 0, one with the
+ * triangle on its right admits val < 0 strictly and val == 0 only closed. */
+static int slot_test(const struct slot *s, double x, double y) {
+    int touch = 0;
+    for (int k = 0; k < 3; k++) {
+        int j = k == 2 ? 0 : k + 1;
+        if (s->left >> k & 1u) {
+            if (orient_sign(s->x[k], s->y[k], s->x[j], s->y[j], x, y) < 0) return SLOT_OUT;
+        } else {
+            int sg = orient_sign(s->x[j], s->y[j], s->x[k], s->y[k], x, y);
+            if (sg > 0) return SLOT_OUT;
+            touch |= sg == 0;
+        }
+    }
+    return touch ? SLOT_TOUCH : SLOT_OWN;
+}
+
+/* Tests the leaf's triangles: returns a strict owner, or -1 after lowering
+ * *closed (-1 = none yet) to the lowest index of a closed-only container. */
+static int32_t leaf_test(const tc_locator *L, const struct node *leaf, double x, double y, int32_t *closed) {
+    for (int32_t i = leaf->first; i < leaf->first + leaf->count; i++) {
+        const struct slot *s = &L->slots[i];
+        int r = slot_test(s, x, y);
+        if (r == SLOT_OWN) return s->t; /* unique in a valid mesh */
+        if (r == SLOT_TOUCH && (*closed < 0 || s->t < *closed)) *closed = s->t;
+    }
+    return -1;
+}
+
+int32_t tc_locate(const tc_locator *L, double x, double y) {
+    if (!L || L->nnodes == 0) return -1;
+    int32_t stack[STACK_MAX];
+    int sp = 0;
+    int32_t n = 0, closed = -1;
+    /* Depth-first: descend left, park the right child. Pending entries are one
+     * per ancestor level at most, so sp <= depth < STACK_MAX. */
+    for (;;) {
+        const struct node *nd = &L->nodes[n];
+        if (box_contains(nd, x, y)) {
+            if (nd->count == 0) {
+                stack[sp++] = nd->first;
+                n++;
+                continue;
+            }
+            int32_t t = leaf_test(L, nd, x, y, &closed);
+            if (t >= 0) return t;
+        }
+        if (sp == 0) return closed;
+        n = stack[--sp];
+    }
+}

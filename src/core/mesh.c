@@ -1,0 +1,162 @@
+/* mesh.c — tc_mesh: a validated copy of a front-end's mesh description.
+ * Builds in phases (geometry, topology, flags, samples); each phase collects
+ * every error it finds, and a phase runs only if the ones before it passed. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core/geom.h"
+#include "core/internal.h"
+
+void tc_mesh_free(tc_mesh *m) {
+    if (!m) return;
+    free(m->xy);
+    free(m->tri);
+    free(m->orient);
+    free(m->cz);
+    free(m->cg);
+    free(m->cg_has);
+    free(m->mid);
+    free(m->mid_has);
+    free(m->nbr);
+    free(m->nbr_k);
+    free(m->flag);
+    free(m->vstart);
+    free(m->vcorner);
+    free(m);
+}
+
+static int check_sizes(const tc_mesh_desc *d, tc_diags *dg) {
+    int st = TC_OK;
+    if (d->nverts < 1 || !d->xy)
+        st = tc_diags_add(dg, TC_SEV_ERROR, "vertices", "the mesh has no vertices");
+    if (d->ntris < 1 || !d->tris)
+        st = tc_diags_add(dg, TC_SEV_ERROR, "triangles", "the mesh has no triangles");
+    if (d->nchan < 1 || d->nchan > TC_MAX_CHANNELS)
+        st = tc_diags_add(dg, TC_SEV_ERROR, "values", "%d channels; 1 to %d are supported",
+                          (int)d->nchan, TC_MAX_CHANNELS);
+    else if (!d->values)
+        st = tc_diags_add(dg, TC_SEV_ERROR, "values", "the mesh has no values");
+    return st;
+}
+
+static int check_finite_xy(const tc_mesh_desc *d, tc_diags *dg) {
+    int st = TC_OK;
+    for (int32_t i = 0; i < d->nverts; i++)
+        for (int j = 0; j < 2; j++)
+            if (!isfinite(d->xy[2 * (size_t)i + j])) {
+                char path[48];
+                snprintf(path, sizeof path, "vertices[%d][%d]", (int)i, j);
+                st = tc_diags_add(dg, TC_SEV_ERROR, path, "number is not finite");
+            }
+    return st;
+}
+
+/* Index range, distinct corners and non-zero area. The area test is relative
+ * to the two edges from corner 0, so slivers of any aspect ratio pass as long
+ * as the sign of their area is above the rounding of its computation. */
+static int check_triangle(const tc_mesh_desc *d, int32_t t, tc_diags *dg) {
+    const int32_t *v = d->tris + 3 * (size_t)t;
+    char path[48];
+    for (int k = 0; k < 3; k++)
+        if (v[k] < 0 || v[k] >= d->nverts) {
+            snprintf(path, sizeof path, "triangles[%d][%d]", (int)t, k);
+            return tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index %d out of range (%d vertices)",
+                                (int)v[k], (int)d->nverts);
+        }
+    snprintf(path, sizeof path, "triangles[%d]", (int)t);
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "degenerate triangle: a vertex appears twice in [%d, %d, %d]",
+                            (int)v[0], (int)v[1], (int)v[2]);
+    const double *p0 = d->xy + 2 * (size_t)v[0], *p1 = d->xy + 2 * (size_t)v[1], *p2 = d->xy + 2 * (size_t)v[2];
+    double e1[2], e2[2];
+    tc__sub(e1, p1, p0);
+    tc__sub(e2, p2, p0);
+    double det = tc__cross(e1, e2), scale = hypot(e1[0], e1[1]) * hypot(e2[0], e2[1]);
+    if (!(fabs(det) > 16 * DBL_EPSILON * scale))
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "zero-area triangle: vertices %d, %d, %d are collinear or coincide",
+                            (int)v[0], (int)v[1], (int)v[2]);
+    return TC_OK;
+}
+
+static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    int st = TC_OK;
+    for (int32_t t = 0; t < d->ntris; t++)
+        if (check_triangle(d, t, dg) != TC_OK) st = TC_EINVAL;
+    if (st != TC_OK) return st;
+    m->xy = tc__malloc((size_t)m->nv * 2, sizeof *m->xy);
+    m->tri = tc__malloc((size_t)m->nt * 3, sizeof *m->tri);
+    m->orient = tc__malloc((size_t)m->nt, sizeof *m->orient);
+    if (!m->xy || !m->tri || !m->orient) return TC_ENOMEM;
+    memcpy(m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
+    memcpy(m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
+    for (int32_t t = 0; t < m->nt; t++) {
+        const int32_t *v = m->tri + 3 * (size_t)t;
+        double e1[2], e2[2];
+        tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
+        tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
+        m->orient[t] = tc__cross(e1, e2) > 0 ? 1 : -1;
+    }
+    return TC_OK;
+}
+
+/* A vertex no triangle uses is harmless (it is never evaluated) but is
+ * usually a front-end bug, so it is reported as a warning. */
+static void warn_unused(const struct tc_mesh *m, tc_diags *dg) {
+    for (int32_t v = 0; v < m->nv; v++)
+        if (m->vstart[v] == m->vstart[v + 1]) {
+            char path[48];
+            snprintf(path, sizeof path, "vertices[%d]", (int)v);
+            tc_diags_add(dg, TC_SEV_WARNING, path, "vertex %d is used by no triangle", (int)v);
+        }
+}
+
+static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    int st = check_sizes(d, dg);
+    if (st != TC_OK) return st;
+    if (d->ntris > INT32_MAX / 3 - 1 || d->nverts > INT32_MAX - 1) return TC_ELIMIT;
+    m->nv = d->nverts;
+    m->nt = d->ntris;
+    m->nc = d->nchan;
+    if ((st = check_finite_xy(d, dg)) != TC_OK) return st;
+    if ((st = copy_geometry(m, d, dg)) != TC_OK) return st;
+    if ((st = tc__topology_build(m, dg)) != TC_OK) return st;
+    if ((st = tc__flags_apply(m, d, dg)) != TC_OK) return st;
+    if ((st = tc__samples_build(m, d, dg)) != TC_OK) return st;
+    warn_unused(m, dg);
+    return TC_OK;
+}
+
+int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags) {
+    *out = NULL;
+    struct tc_mesh *m = calloc(1, sizeof *m);
+    if (!m) return TC_ENOMEM;
+    int st = build(m, desc, diags);
+    if (st != TC_OK) {
+        tc_mesh_free(m);
+        return st;
+    }
+    *out = m;
+    return TC_OK;
+}
+
+int32_t tc_mesh_vertex_count(const tc_mesh *m) { return m->nv; }
+int32_t tc_mesh_triangle_count(const tc_mesh *m) { return m->nt; }
+int tc_mesh_channel_count(const tc_mesh *m) { return m->nc; }
+const double *tc_mesh_xy(const tc_mesh *m) { return m->xy; }
+const int32_t *tc_mesh_triangles(const tc_mesh *m) { return m->tri; }
+
+const double *tc_mesh_corner_value(const tc_mesh *m, int32_t t, int k) {
+    return m->cz + (3 * (size_t)t + (size_t)k) * (size_t)m->nc;
+}
+
+tc_continuity tc_mesh_edge_flag(const tc_mesh *m, int32_t t, int k) {
+    return (tc_continuity)m->flag[3 * (size_t)t + (size_t)k];
+}
+
+int32_t tc_mesh_neighbor(const tc_mesh *m, int32_t t, int k, int *nk) {
+    size_t c = 3 * (size_t)t + (size_t)k;
+    if (nk) *nk = m->nbr[c] >= 0 ? m->nbr_k[c] : -1;
+    return m->nbr[c];
+}

@@ -1,0 +1,156 @@
+/* recon.c — tc_recon: one reconstruction of a mesh. Runs the pipeline a method
+ * needs (wedges -> tangent planes -> ordinates for the cubic methods) and keeps
+ * only the coefficients and the corner planes; everything else is scratch. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core/ct.h"
+#include "core/internal.h"
+#include "core/recon.h"
+#include "core/tangent.h"
+
+void tc_recon_free(tc_recon *r) {
+    if (!r) return;
+    free(r->coef);
+    free(r->cgrad);
+    free(r);
+}
+
+/* Without flags every wedge is bounded by the mesh boundary only; corner
+ * values that differ inside one wedge (C-1 data) are replaced by their mean,
+ * so the C1 baseline really is continuous there. NULL: use the mesh's values. */
+static double *merged_values(const struct tc_mesh *m, const tc_wedge_set *ws, int *st) {
+    *st = TC_OK;
+    if (ws->honor_flags || m->ncorner_overrides == 0) return NULL;
+    int nc = m->nc;
+    double *cz = tc__malloc(3 * (size_t)m->nt * nc, sizeof *cz);
+    if (!cz) {
+        *st = TC_ENOMEM;
+        return NULL;
+    }
+    for (int32_t w = 0; w < ws->nw; w++) {
+        const tc_wedge *wd = &ws->w[w];
+        for (int ch = 0; ch < nc; ch++) {
+            double s = 0;
+            for (int32_t i = 0; i < wd->count; i++) s += m->cz[(size_t)ws->corners[wd->first + i] * nc + ch];
+            for (int32_t i = 0; i < wd->count; i++) cz[(size_t)ws->corners[wd->first + i] * nc + ch] = s / wd->count;
+        }
+    }
+    return cz;
+}
+
+typedef struct {
+    tc_wedge_set ws;
+    double *cz_own; /* merged values, or NULL */
+    double *in;     /* [3nt][nc][2] corner input planes */
+    double *wp;     /* [nw][nc][2] wedge planes */
+} ct_scratch;
+
+static void ct_scratch_free(ct_scratch *s) {
+    tc__wedges_free(&s->ws);
+    free(s->cz_own);
+    free(s->in);
+    free(s->wp);
+}
+
+static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
+    size_t stride = 2 * (size_t)m->nc;
+    int st = tc__wedges_build(m, r->opt.method == TC_METHOD_CLOUGH_TOCHER, &s->ws);
+    if (st != TC_OK) return st;
+    s->cz_own = merged_values(m, &s->ws, &st);
+    if (st != TC_OK) return st;
+    s->in = tc__malloc(3 * (size_t)m->nt, stride * sizeof *s->in);
+    s->wp = tc__malloc((size_t)s->ws.nw, stride * sizeof *s->wp);
+    r->cgrad = tc__malloc(3 * (size_t)m->nt, stride * sizeof *r->cgrad);
+    if (!s->in || !s->wp || !r->cgrad) return TC_ENOMEM;
+    const double *cz = s->cz_own ? s->cz_own : m->cz;
+    if ((st = tc__corner_inputs(m, &s->ws, cz, r->opt.tangents, s->in, dg)) != TC_OK) return st;
+    if ((st = tc__wedge_planes(m, &s->ws, s->in, r->opt.wedges, s->wp, dg)) != TC_OK) return st;
+    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
+        memcpy(r->cgrad + c * stride, s->wp + (size_t)s->ws.of_corner[c] * stride, stride * sizeof *r->cgrad);
+    return TC_OK;
+}
+
+static int build_ct(struct tc_recon *r, tc_diags *dg) {
+    ct_scratch s;
+    memset(&s, 0, sizeof s);
+    int st = ct_planes(r, &s, dg);
+    if (st == TC_OK) {
+        tc_ct_input x = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->cgrad, s.in,
+                         r->opt.cross_boundary, r->opt.wedges};
+        st = tc__ct_ordinates(&x, r->coef, dg);
+    }
+    ct_scratch_free(&s);
+    return st;
+}
+
+/* Coefficients beyond this make evaluation overflow (a few dozen of them are
+ * summed with weights up to 3); refusing them keeps every output finite. */
+#define TC_COEF_MAX 1e300
+
+/* Steep tangent planes on large triangles, or values near the double range,
+ * can overflow the ordinates: refuse the input, naming the triangle. */
+static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
+    size_t per_tri = (size_t)r->m->nc * r->ncoef;
+    for (int32_t t = 0; t < r->m->nt; t++)
+        for (size_t i = 0; i < per_tri; i++) {
+            double c = r->coef[(size_t)t * per_tri + i];
+            if (isfinite(c) && fabs(c) <= TC_COEF_MAX) continue;
+            char path[48];
+            snprintf(path, sizeof path, "triangles[%d]", (int)t);
+            return tc_diags_add(dg, TC_SEV_ERROR, path,
+                                "the reconstruction overflows here (ordinate %s = %g): the tangent planes at its corners "
+                                "are too steep for its size, or its values too large",
+                                r->labels[i % r->ncoef], c);
+        }
+    return TC_OK;
+}
+
+static int build(struct tc_recon *r, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
+    switch (r->opt.method) {
+    case TC_METHOD_CONSTANT: r->ncoef = 1, r->labels = tc__constant_labels, r->eval = tc__constant_eval; break;
+    case TC_METHOD_LINEAR: r->ncoef = 3, r->labels = tc__linear_labels, r->eval = tc__linear_eval; break;
+    case TC_METHOD_LINEAR4: r->ncoef = 6, r->labels = tc__linear4_labels, r->eval = tc__linear4_eval; break;
+    case TC_METHOD_CLOUGH_TOCHER:
+    case TC_METHOD_CLOUGH_TOCHER_C1:
+        r->ncoef = TC_CT_ORDINATES, r->labels = tc__ct_labels, r->eval = tc__ct_eval;
+        break;
+    default: return tc_diags_add(dg, TC_SEV_ERROR, "method", "unknown method %d", (int)r->opt.method);
+    }
+    r->coef = tc__malloc((size_t)m->nt * m->nc, (size_t)r->ncoef * sizeof *r->coef);
+    if (!r->coef) return TC_ENOMEM;
+    int st = TC_OK;
+    switch (r->opt.method) {
+    case TC_METHOD_CONSTANT: tc__constant_build(m, r->coef); break;
+    case TC_METHOD_LINEAR: tc__linear_build(m, r->coef); break;
+    case TC_METHOD_LINEAR4: tc__linear4_build(m, r->coef, dg); break;
+    default: st = build_ct(r, dg);
+    }
+    return st == TC_OK ? check_bounded(r, dg) : st;
+}
+
+int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags *diags) {
+    *out = NULL;
+    struct tc_recon *r = calloc(1, sizeof *r);
+    if (!r) return TC_ENOMEM;
+    r->m = m;
+    if (o) r->opt = *o;
+    else tc_options_default(&r->opt);
+    int st = build(r, diags);
+    if (st != TC_OK) {
+        tc_recon_free(r);
+        return st;
+    }
+    *out = r;
+    return TC_OK;
+}
+
+const tc_mesh *tc_recon_mesh(const tc_recon *r) { return r->m; }
+const tc_options *tc_recon_options(const tc_recon *r) { return &r->opt; }
+int tc_recon_coef_count(const tc_recon *r) { return r->ncoef; }
+const char *tc_recon_coef_label(const tc_recon *r, int i) { return i >= 0 && i < r->ncoef ? r->labels[i] : NULL; }
+const double *tc_recon_coefs(const tc_recon *r) { return r->coef; }
+const double *tc_recon_corner_gradients(const tc_recon *r) { return r->cgrad; }

@@ -1,0 +1,294 @@
+/* samples.c — the data a front-end measured, spread onto triangle corners:
+ * corner values (vertex values with sparse overrides), given tangent planes
+ * (gradients or normals, per vertex or per corner) and edge-midpoint samples. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core/internal.h"
+
+/* Scratch shared by the steps: which corner_values entry set each corner
+ * (for error paths) and the value scale of each channel (for tolerances). */
+typedef struct {
+    int32_t *cv_src; /* [3nt] or NULL */
+    double scale[TC_MAX_CHANNELS];
+} scratch;
+
+static int check_finite(const double *x, size_t n, const char *path, tc_diags *dg) {
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i])) return tc_diags_add(dg, TC_SEV_ERROR, path, "number is not finite");
+    return TC_OK;
+}
+
+static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
+    int nc = m->nc, st = TC_OK;
+    char path[64];
+    for (int32_t v = 0; v < m->nv; v++) {
+        snprintf(path, sizeof path, "values[%d]", (int)v);
+        if (check_finite(d->values + (size_t)v * nc, (size_t)nc, path, dg) != TC_OK) st = TC_EINVAL;
+    }
+    if (st != TC_OK) return st;
+    m->cz = tc__malloc(3 * (size_t)m->nt * nc, sizeof *m->cz);
+    if (!m->cz) return TC_ENOMEM;
+    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
+        memcpy(m->cz + c * nc, d->values + (size_t)m->tri[c] * nc, (size_t)nc * sizeof *m->cz);
+    if (d->ncorner_values == 0) return TC_OK;
+    s->cv_src = tc__malloc(3 * (size_t)m->nt, sizeof *s->cv_src);
+    if (!s->cv_src) return TC_ENOMEM;
+    for (size_t c = 0; c < 3 * (size_t)m->nt; c++) s->cv_src[c] = -1;
+    for (int32_t i = 0; i < d->ncorner_values; i++) {
+        int32_t t = d->corner_values_tri[i];
+        const double *z = d->corner_values + (size_t)i * 3 * nc;
+        snprintf(path, sizeof path, "corner_values[%d].triangle", (int)i);
+        if (t < 0 || t >= m->nt) {
+            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle index %d out of range (%d triangles)", (int)t,
+                              (int)m->nt);
+            continue;
+        }
+        if (s->cv_src[3 * (size_t)t] >= 0) {
+            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle %d already has corner values (corner_values[%d])",
+                              (int)t, (int)s->cv_src[3 * (size_t)t]);
+            continue;
+        }
+        snprintf(path, sizeof path, "corner_values[%d].values", (int)i);
+        if (check_finite(z, 3 * (size_t)nc, path, dg) != TC_OK) {
+            st = TC_EINVAL;
+            continue;
+        }
+        for (int k = 0; k < 3; k++) {
+            size_t c = 3 * (size_t)t + (size_t)k;
+            s->cv_src[c] = i;
+            memcpy(m->cz + c * nc, z + (size_t)k * nc, (size_t)nc * sizeof *m->cz);
+            if (memcmp(z + (size_t)k * nc, d->values + (size_t)m->tri[c] * nc, (size_t)nc * sizeof *z))
+                m->ncorner_overrides++;
+        }
+    }
+    return st;
+}
+
+static int alloc_gradients(struct tc_mesh *m) {
+    if (m->cg) return TC_OK;
+    m->cg = tc__calloc(3 * (size_t)m->nt * m->nc * 2, sizeof *m->cg);
+    m->cg_has = tc__calloc(3 * (size_t)m->nt, sizeof *m->cg_has);
+    return m->cg && m->cg_has ? TC_OK : TC_ENOMEM;
+}
+
+/* Converts a vertex's normals (one per channel) to gradients, g = -(nx, ny)/nz. */
+static int normal_to_gradient(const double *n, int nc, int32_t v, double *g, tc_diags *dg) {
+    char path[48];
+    snprintf(path, sizeof path, "normals[%d]", (int)v);
+    for (int ch = 0; ch < nc; ch++) {
+        const double *nn = n + 3 * ch;
+        if (nc > 1) snprintf(path, sizeof path, "normals[%d][%d]", (int)v, ch);
+        if (!(nn[2] > 0)) {
+            return tc_diags_add(dg, TC_SEV_ERROR, path, "N.z = %g must be > 0 (a height field's normal points up)",
+                                nn[2]);
+        }
+        g[2 * ch] = -nn[0] / nn[2];
+        g[2 * ch + 1] = -nn[1] / nn[2];
+        if (!isfinite(g[2 * ch]) || !isfinite(g[2 * ch + 1]))
+            return tc_diags_add(dg, TC_SEV_ERROR, path, "normal is too close to horizontal (N.z = %g)", nn[2]);
+    }
+    return TC_OK;
+}
+
+/* Per-vertex gradients or normals, copied onto every corner of the vertex. */
+static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    int nc = m->nc, st = TC_OK;
+    size_t stride = 2 * (size_t)nc;
+    double g[2 * TC_MAX_CHANNELS];
+    char path[48];
+    for (int32_t v = 0; v < m->nv; v++) {
+        if (d->gradients) {
+            if (d->gradients_mask && !d->gradients_mask[v]) continue;
+            snprintf(path, sizeof path, "gradients[%d]", (int)v);
+            if (check_finite(d->gradients + (size_t)v * stride, stride, path, dg) != TC_OK) {
+                st = TC_EINVAL;
+                continue;
+            }
+            memcpy(g, d->gradients + (size_t)v * stride, stride * sizeof *g);
+        } else {
+            if (d->normals_mask && !d->normals_mask[v]) continue;
+            snprintf(path, sizeof path, "normals[%d]", (int)v);
+            if (check_finite(d->normals + (size_t)v * 3 * nc, 3 * (size_t)nc, path, dg) != TC_OK ||
+                normal_to_gradient(d->normals + (size_t)v * 3 * nc, nc, v, g, dg) != TC_OK) {
+                st = TC_EINVAL;
+                continue;
+            }
+        }
+        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++) {
+            int32_t c = m->vcorner[i];
+            memcpy(m->cg + (size_t)c * stride, g, stride * sizeof *g);
+            m->cg_has[c] = 1;
+        }
+    }
+    return st;
+}
+
+static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    int nc = m->nc, st = TC_OK;
+    size_t stride = 2 * (size_t)nc;
+    char path[64];
+    int32_t *seen = d->ncorner_gradients ? tc__malloc((size_t)m->nt, sizeof *seen) : NULL;
+    if (d->ncorner_gradients && !seen) return TC_ENOMEM;
+    for (int32_t t = 0; seen && t < m->nt; t++) seen[t] = -1;
+    for (int32_t i = 0; i < d->ncorner_gradients; i++) {
+        int32_t t = d->corner_gradients_tri[i];
+        snprintf(path, sizeof path, "corner_gradients[%d].triangle", (int)i);
+        if (t < 0 || t >= m->nt) {
+            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle index %d out of range (%d triangles)", (int)t,
+                              (int)m->nt);
+            continue;
+        }
+        if (seen[t] >= 0) {
+            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle %d already has corner gradients (corner_gradients[%d])",
+                              (int)t, (int)seen[t]);
+            continue;
+        }
+        seen[t] = i;
+        for (int k = 0; k < 3; k++) {
+            if (d->corner_gradients_mask && !d->corner_gradients_mask[3 * (size_t)i + k]) continue;
+            const double *g = d->corner_gradients + (3 * (size_t)i + k) * stride;
+            snprintf(path, sizeof path, "corner_gradients[%d].gradients[%d]", (int)i, k);
+            if (check_finite(g, stride, path, dg) != TC_OK) {
+                st = TC_EINVAL;
+                continue;
+            }
+            memcpy(m->cg + (3 * (size_t)t + k) * stride, g, stride * sizeof *g);
+            m->cg_has[3 * (size_t)t + k] = 1;
+        }
+    }
+    free(seen);
+    return st;
+}
+
+static int gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    if (d->gradients && d->normals)
+        return tc_diags_add(dg, TC_SEV_ERROR, "normals", "give either gradients or normals, not both");
+    if (!d->gradients && !d->normals && d->ncorner_gradients == 0) return TC_OK;
+    int st = alloc_gradients(m);
+    if (st != TC_OK) return st;
+    if (d->gradients || d->normals) st = vertex_gradients(m, d, dg);
+    if (corner_gradients(m, d, dg) != TC_OK) st = TC_EINVAL;
+    return st;
+}
+
+/* Stores midpoint sample i on edge side c (corner id of the edge). */
+static int put_midpoint(struct tc_mesh *m, int32_t *src, size_t c, int32_t i, const double *z, const char *path,
+                        tc_diags *dg) {
+    if (src[c] >= 0)
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "this edge side already has a sample (midpoints[%d])", (int)src[c]);
+    src[c] = i;
+    m->mid_has[c] = 1;
+    memcpy(m->mid + c * m->nc, z, (size_t)m->nc * sizeof *z);
+    return TC_OK;
+}
+
+static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t *src, tc_diags *dg) {
+    int32_t a = d->midpoint_edge[2 * (size_t)i], b = d->midpoint_edge[2 * (size_t)i + 1];
+    int32_t t = d->midpoint_tri ? d->midpoint_tri[i] : -1;
+    const double *z = d->midpoint_values + (size_t)i * m->nc;
+    char path[64];
+    snprintf(path, sizeof path, "midpoints[%d].edge", (int)i);
+    if (a < 0 || a >= m->nv || b < 0 || b >= m->nv)
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index out of range in [%d, %d] (%d vertices)", (int)a,
+                            (int)b, (int)m->nv);
+    int32_t c = a == b ? -1 : tc__find_edge(m, a, b);
+    if (c < 0) return tc_diags_add(dg, TC_SEV_ERROR, path, "[%d, %d] is not an edge of the mesh", (int)a, (int)b);
+    snprintf(path, sizeof path, "midpoints[%d].value", (int)i);
+    if (check_finite(z, (size_t)m->nc, path, dg) != TC_OK) return TC_EINVAL;
+    snprintf(path, sizeof path, "midpoints[%d]", (int)i);
+    if (t < -1) {
+        snprintf(path, sizeof path, "midpoints[%d].triangle", (int)i);
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "triangle index %d out of range (%d triangles)", (int)t, (int)m->nt);
+    }
+    if (t >= 0) {
+        int k = t < m->nt ? (tc__corner_of(m, t, a) >= 0 && tc__corner_of(m, t, b) >= 0) : 0;
+        if (!k) {
+            snprintf(path, sizeof path, "midpoints[%d].triangle", (int)i);
+            return tc_diags_add(dg, TC_SEV_ERROR, path, "triangle %d does not have edge [%d, %d]", (int)t, (int)a,
+                                (int)b);
+        }
+        c = tc__find_edge(m, a, b);
+        if (c / 3 != t) c = 3 * m->nbr[c] + m->nbr_k[c];
+        return put_midpoint(m, src, (size_t)c, i, z, path, dg);
+    }
+    int st = put_midpoint(m, src, (size_t)c, i, z, path, dg);
+    if (st == TC_OK && m->nbr[c] >= 0)
+        st = put_midpoint(m, src, 3 * (size_t)m->nbr[c] + (size_t)m->nbr_k[c], i, z, path, dg);
+    return st;
+}
+
+static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    if (d->nmidpoints == 0) return TC_OK;
+    size_t nc = 3 * (size_t)m->nt;
+    m->mid = tc__calloc(nc * m->nc, sizeof *m->mid);
+    m->mid_has = tc__calloc(nc, sizeof *m->mid_has);
+    int32_t *src = tc__malloc(nc, sizeof *src);
+    int st = TC_ENOMEM;
+    if (m->mid && m->mid_has && src) {
+        st = TC_OK;
+        for (size_t c = 0; c < nc; c++) src[c] = -1;
+        for (int32_t i = 0; i < d->nmidpoints; i++)
+            if (midpoint(m, d, i, src, dg) != TC_OK) st = TC_EINVAL;
+    }
+    free(src);
+    return st;
+}
+
+static void channel_scales(const struct tc_mesh *m, scratch *s) {
+    for (int ch = 0; ch < m->nc; ch++) s->scale[ch] = 0;
+    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
+        for (int ch = 0; ch < m->nc; ch++) {
+            double a = fabs(m->cz[c * m->nc + ch]);
+            if (a > s->scale[ch]) s->scale[ch] = a;
+        }
+}
+
+/* Values agree across a C0/C1 edge: at both of its ends, within 1e-12 of the
+ * channel's value scale (exact for values that were not overridden). */
+static int check_edge_values(const struct tc_mesh *m, const scratch *s, size_t c, tc_diags *dg) {
+    int32_t t = (int32_t)(c / 3), k = (int32_t)(c % 3), t2 = m->nbr[c];
+    for (int e = 0; e < 2; e++) {
+        size_t ca = 3 * (size_t)t + (size_t)(k + e) % 3;
+        int32_t v = m->tri[ca];
+        size_t cb = 3 * (size_t)t2 + (size_t)tc__corner_of(m, t2, v);
+        for (int ch = 0; ch < m->nc; ch++) {
+            double za = m->cz[ca * m->nc + ch], zb = m->cz[cb * m->nc + ch];
+            if (fabs(za - zb) <= 1e-12 * s->scale[ch]) continue;
+            char path[48];
+            int32_t src = s->cv_src ? (s->cv_src[cb] >= 0 ? s->cv_src[cb] : s->cv_src[ca]) : -1;
+            if (src >= 0) snprintf(path, sizeof path, "corner_values[%d]", (int)src);
+            else snprintf(path, sizeof path, "triangles[%d]", (int)t2);
+            return tc_diags_add(dg, TC_SEV_ERROR, path,
+                                "values disagree across %s edge [%d, %d] at vertex %d: %.17g (triangle %d) vs %.17g "
+                                "(triangle %d); flag the edge c-1 or give equal values",
+                                m->flag[c] == TC_C0 ? "the C0" : "the C1", (int)m->tri[c],
+                                (int)m->tri[3 * (size_t)t + (size_t)(k + 1) % 3], (int)v, za, (int)t, zb, (int)t2);
+        }
+    }
+    return TC_OK;
+}
+
+static int check_agreement(const struct tc_mesh *m, const scratch *s, tc_diags *dg) {
+    int st = TC_OK;
+    for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
+        int32_t t2 = m->nbr[c];
+        if (t2 < (int32_t)(c / 3) || m->flag[c] == TC_CM1) continue; /* each interior edge once */
+        if (check_edge_values(m, s, c, dg) != TC_OK) st = TC_EINVAL;
+    }
+    return st;
+}
+
+int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    scratch s = {0};
+    int st = corner_values(m, d, &s, dg);
+    if (st == TC_OK) st = gradients(m, d, dg);
+    if (st == TC_OK) st = midpoints(m, d, dg);
+    if (st == TC_OK) {
+        channel_scales(m, &s);
+        if (m->ncorner_overrides) st = check_agreement(m, &s, dg);
+    }
+    free(s.cv_src);
+    return st;
+}

@@ -1,0 +1,192 @@
+/* topology.c — who touches whom: vertex -> corner lists, edge adjacency, and
+ * the continuity flags the front-end's polylines put on edges. Rejects meshes
+ * that are not 2-manifold with consistent sides (repeats, 3-way edges, folds). */
+#include <stdio.h>
+#include <string.h>
+
+#include "core/geom.h"
+#include "core/internal.h"
+
+/* Corners of each vertex, in increasing triangle order (a counting sort). */
+static int build_vertex_corners(struct tc_mesh *m) {
+    size_t nc = 3 * (size_t)m->nt;
+    m->vstart = tc__calloc((size_t)m->nv + 1, sizeof *m->vstart);
+    m->vcorner = tc__malloc(nc, sizeof *m->vcorner);
+    if (!m->vstart || !m->vcorner) return TC_ENOMEM;
+    for (size_t c = 0; c < nc; c++) m->vstart[m->tri[c] + 1]++;
+    for (int32_t v = 0; v < m->nv; v++) m->vstart[v + 1] += m->vstart[v];
+    int32_t *fill = tc__malloc((size_t)m->nv, sizeof *fill);
+    if (!fill) return TC_ENOMEM;
+    memcpy(fill, m->vstart, (size_t)m->nv * sizeof *fill);
+    for (size_t c = 0; c < nc; c++) m->vcorner[fill[m->tri[c]]++] = (int32_t)c;
+    free(fill);
+    return TC_OK;
+}
+
+/* Index (0..2) of the edge of triangle t that joins a and b, or -1. */
+static int edge_index(const struct tc_mesh *m, int32_t t, int32_t a, int32_t b) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    for (int j = 0; j < 3; j++) {
+        int32_t p = v[j], q = v[(j + 1) % 3];
+        if ((p == a && q == b) || (p == b && q == a)) return j;
+    }
+    return -1;
+}
+
+/* Signed area test of the triangle's third vertex against its edge k, taken
+ * in the direction a -> b so both sides of an edge use the same frame. */
+static double side_of_third(const struct tc_mesh *m, int32_t t, int k, int32_t a, int32_t b) {
+    int32_t w = m->tri[3 * (size_t)t + (size_t)(k + 2) % 3];
+    double e[2], d[2];
+    tc__sub(e, tc__vxy(m, b), tc__vxy(m, a));
+    tc__sub(d, tc__vxy(m, w), tc__vxy(m, a));
+    return tc__cross(e, d);
+}
+
+/* Finds the triangles other than t on edge (a, b) of t (edge k) and links the
+ * first. Reports repeats, non-manifold edges (once, from the lowest triangle)
+ * and folds. */
+static int link_edge(struct tc_mesh *m, int32_t t, int k, tc_diags *dg) {
+    int32_t a = m->tri[3 * (size_t)t + (size_t)k], b = m->tri[3 * (size_t)t + (size_t)(k + 1) % 3];
+    int32_t others[2] = {-1, -1}, nothers = 0, lowest = t;
+    char path[48];
+    for (int32_t i = m->vstart[a]; i < m->vstart[a + 1]; i++) {
+        int32_t t2 = m->vcorner[i] / 3;
+        if (t2 == t || edge_index(m, t2, a, b) < 0) continue;
+        if (nothers < 2) others[nothers] = t2;
+        nothers++;
+        if (t2 < lowest) lowest = t2;
+    }
+    if (nothers == 0) return TC_OK;
+    int32_t t2 = others[0];
+    int k2 = edge_index(m, t2, a, b);
+    int32_t w = m->tri[3 * (size_t)t + (size_t)(k + 2) % 3];
+    if (tc__corner_of(m, t2, w) >= 0) {
+        if (t2 > t) return TC_OK;  /* reported from the later copy, */
+        if (k != 0) return TC_EINVAL; /* once: all its edges see it */
+        snprintf(path, sizeof path, "triangles[%d]", (int)t);
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "repeats triangles[%d] (same three vertices)", (int)t2);
+    }
+    if (nothers > 1) {
+        if (lowest != t) return TC_EINVAL;
+        snprintf(path, sizeof path, "triangles[%d]", (int)others[1]);
+        return tc_diags_add(dg, TC_SEV_ERROR, path,
+                            "non-manifold edge [%d, %d]: shared by %d triangles (%d, %d, %d%s)", (int)a, (int)b,
+                            (int)nothers + 1, (int)t, (int)others[0], (int)others[1], nothers > 2 ? ", ..." : "");
+    }
+    if ((side_of_third(m, t, k, a, b) > 0) == (side_of_third(m, t2, k2, a, b) > 0)) {
+        if (t2 < t) return TC_EINVAL; /* reported from the lower triangle */
+        snprintf(path, sizeof path, "triangles[%d]", (int)t2);
+        return tc_diags_add(dg, TC_SEV_ERROR, path,
+                            "overlaps triangles[%d]: both lie on the same side of their shared edge [%d, %d]",
+                            (int)t, (int)a, (int)b);
+    }
+    m->nbr[3 * (size_t)t + (size_t)k] = t2;
+    m->nbr_k[3 * (size_t)t + (size_t)k] = (int8_t)k2;
+    return TC_OK;
+}
+
+int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
+    size_t nc = 3 * (size_t)m->nt;
+    int st = build_vertex_corners(m);
+    if (st != TC_OK) return st;
+    m->nbr = tc__malloc(nc, sizeof *m->nbr);
+    m->nbr_k = tc__calloc(nc, sizeof *m->nbr_k);
+    m->flag = tc__malloc(nc, sizeof *m->flag);
+    if (!m->nbr || !m->nbr_k || !m->flag) return TC_ENOMEM;
+    for (size_t c = 0; c < nc; c++) m->nbr[c] = -1;
+    for (int32_t t = 0; t < m->nt; t++)
+        for (int k = 0; k < 3; k++)
+            if (link_edge(m, t, k, dg) != TC_OK) st = TC_EINVAL;
+    if (st != TC_OK) return st;
+    for (size_t c = 0; c < nc; c++) m->flag[c] = m->nbr[c] >= 0 ? TC_C1 : TC_CM1;
+    return TC_OK;
+}
+
+int32_t tc__find_edge(const struct tc_mesh *m, int32_t a, int32_t b) {
+    for (int32_t i = m->vstart[a]; i < m->vstart[a + 1]; i++) {
+        int32_t c = m->vcorner[i], t = c / 3;
+        int k = edge_index(m, t, a, b);
+        if (k >= 0) return 3 * t + k;
+    }
+    return -1;
+}
+
+/* ---- continuity flags from polylines ---- */
+
+typedef struct {
+    const char *name;   /* "c0" or "c-1" */
+    tc_continuity kind;
+    int32_t *src;       /* [3nt] polyline that flagged each edge side, or -1 */
+    tc_continuity *src_kind;
+} flag_ctx;
+
+static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j, int32_t p, int32_t q,
+                        tc_diags *dg) {
+    char path[64];
+    snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)line, (int)j);
+    if (p == q)
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] repeats a vertex", (int)p, (int)q);
+    int32_t c = tc__find_edge(m, p, q);
+    if (c < 0)
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] is not an edge of the mesh", (int)p,
+                            (int)q);
+    if (fc->src[c] >= 0 && fc->src_kind[c] != fc->kind)
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "edge [%d, %d] is flagged both c0 and c-1 (also in %s[%d])",
+                            (int)p, (int)q, fc->src_kind[c] == TC_C0 ? "discontinuities.c0" : "discontinuities.c-1",
+                            (int)fc->src[c]);
+    fc->src[c] = line;
+    fc->src_kind[c] = fc->kind;
+    if (m->nbr[c] < 0) return TC_OK; /* a boundary edge is already as cut as it can be */
+    int32_t other = 3 * m->nbr[c] + m->nbr_k[c];
+    if (fc->src[other] < 0) m->nflagged++;
+    m->flag[c] = m->flag[other] = (int8_t)fc->kind;
+    fc->src[other] = line;
+    fc->src_kind[other] = fc->kind;
+    return TC_OK;
+}
+
+static int flag_polylines(struct tc_mesh *m, const tc_polylines *pl, flag_ctx *fc, tc_diags *dg) {
+    int st = TC_OK;
+    char path[64];
+    for (int32_t i = 0; i < pl->count; i++) {
+        int32_t s = pl->start[i], e = pl->start[i + 1];
+        snprintf(path, sizeof path, "discontinuities.%s[%d]", fc->name, (int)i);
+        if (e - s < 2) {
+            st = tc_diags_add(dg, TC_SEV_ERROR, path, "a polyline needs at least 2 vertices");
+            continue;
+        }
+        for (int32_t j = s; j < e; j++) {
+            int32_t v = pl->verts[j];
+            if (v < 0 || v >= m->nv) {
+                snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)i, (int)(j - s));
+                st = tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index %d out of range (%d vertices)", (int)v,
+                                  (int)m->nv);
+                break;
+            }
+            if (j > s && flag_segment(m, fc, i, j - 1 - s, pl->verts[j - 1], v, dg) != TC_OK) st = TC_EINVAL;
+        }
+    }
+    return st;
+}
+
+int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    if (d->c0.count == 0 && d->cm1.count == 0) return TC_OK;
+    size_t nc = 3 * (size_t)m->nt;
+    flag_ctx fc = {0};
+    fc.src = tc__malloc(nc, sizeof *fc.src);
+    fc.src_kind = tc__malloc(nc, sizeof *fc.src_kind);
+    int st = TC_ENOMEM;
+    if (fc.src && fc.src_kind) {
+        for (size_t c = 0; c < nc; c++) fc.src[c] = -1;
+        fc.name = "c0";
+        fc.kind = TC_C0;
+        st = flag_polylines(m, &d->c0, &fc, dg);
+        fc.name = "c-1";
+        fc.kind = TC_CM1;
+        if (flag_polylines(m, &d->cm1, &fc, dg) != TC_OK) st = TC_EINVAL;
+    }
+    free(fc.src);
+    free(fc.src_kind);
+    return st;
+}

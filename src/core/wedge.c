@@ -1,0 +1,163 @@
+/* wedge.c — classifies vertices (C1 / C0 / C-1, paper §2) and partitions the
+ * faces around each vertex into wedges by walking its fan between delimiters. */
+#include <string.h>
+
+#include "core/geom.h"
+#include "core/internal.h"
+#include "core/wedge.h"
+
+void tc__wedges_free(tc_wedge_set *ws) {
+    if (!ws) return;
+    free(ws->w);
+    free(ws->corners);
+    free(ws->of_corner);
+    free(ws->vclass);
+    memset(ws, 0, sizeof *ws);
+}
+
+/* The endpoint other than v of edge id e. */
+static int32_t far_end(const struct tc_mesh *m, int32_t e, int32_t v) {
+    int32_t t = e / 3, k = e % 3;
+    int32_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
+    return a == v ? b : a;
+}
+
+static void edge_dir(const struct tc_mesh *m, int32_t e, int32_t v, double d[2]) {
+    tc__sub(d, tc__vxy(m, far_end(m, e, v)), tc__vxy(m, v));
+}
+
+/* Paper §2: C-1 if any incident edge is C-1 (the boundary included); else C0
+ * with three or more C0 edges, or exactly two that are collinear; else C1. */
+static int8_t classify(const struct tc_mesh *m, int honor, int32_t v) {
+    int ncm1 = 0, nc0 = 0;
+    double d[2][2] = {{0}};
+    for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++) {
+        int32_t c = m->vcorner[i], t = c / 3, k = c % 3;
+        int32_t edges[2] = {c, 3 * t + (k + 2) % 3}; /* the two edges of t at v */
+        for (int j = 0; j < 2; j++) {
+            int32_t e = edges[j];
+            if (m->nbr[e] >= 0 && m->nbr[e] < t) continue; /* count each edge once */
+            int f = tc__eff_flag(m, honor, e);
+            if (f == TC_CM1) ncm1++;
+            else if (f == TC_C0 && nc0++ < 2) edge_dir(m, e, v, d[nc0 - 1]);
+        }
+    }
+    if (ncm1) return TC_CM1;
+    if (nc0 >= 3 || (nc0 == 2 && tc__antiparallel(d[0], d[1]))) return TC_C0;
+    return TC_C1;
+}
+
+static int is_delimiter(const struct tc_mesh *m, const tc_wedge_set *ws, int32_t v, int32_t e) {
+    return ws->vclass[v] != TC_C1 && tc__eff_flag(m, ws->honor_flags, e) != TC_C1;
+}
+
+/* Crosses edge id e (of the triangle holding corner c) to the neighbour's
+ * corner at v; *exit receives the neighbour's other edge at v. */
+static int32_t step(const struct tc_mesh *m, int32_t v, int32_t e, int32_t *exit) {
+    int32_t t2 = m->nbr[e], k2 = m->nbr_k[e];
+    int32_t kv = tc__corner_of(m, t2, v);
+    *exit = 3 * t2 + (k2 == kv ? (kv + 2) % 3 : kv);
+    return 3 * t2 + kv;
+}
+
+/* Walks from corner c0 leaving through edge `exit` until a delimiter (whose id
+ * goes to *end) or back to c0 (returns -1). Appends the corners passed. */
+static int32_t walk(const struct tc_mesh *m, const tc_wedge_set *ws, int32_t v, int32_t c0, int32_t exit,
+                    int32_t *seq, int32_t *n, int32_t limit, int32_t *end) {
+    while (!is_delimiter(m, ws, v, exit)) {
+        int32_t c = step(m, v, exit, &exit);
+        if (c == c0 || *n >= limit) return -1;
+        seq[(*n)++] = c;
+    }
+    *end = exit;
+    return 0;
+}
+
+static void set_side(const struct tc_mesh *m, const tc_wedge_set *ws, tc_wedge *w, int s, int32_t e) {
+    w->side_edge[s] = e;
+    w->side_kind[s] = (int8_t)(tc__eff_flag(m, ws->honor_flags, e) == TC_C0 ? TC_C0 : TC_CM1);
+    w->across[s] = -1;
+    edge_dir(m, e, w->v, w->dir[s]);
+}
+
+/* Builds the wedge of vertex v that contains corner c0. `buf` has room for
+ * twice the vertex degree. Corners go to ws->corners[*fill ..]. */
+static void build_wedge(const struct tc_mesh *m, tc_wedge_set *ws, int32_t v, int32_t c0, int32_t *buf,
+                        int32_t deg, int32_t *fill) {
+    tc_wedge *w = &ws->w[ws->nw];
+    int32_t t0 = c0 / 3, k0 = c0 % 3, nf = 0, nb = 0, end_f = -1, end_b = -1;
+    int32_t *fwd = buf, *bwd = buf + deg;
+    memset(w, 0, sizeof *w);
+    w->v = v;
+    w->side_edge[0] = w->side_edge[1] = w->across[0] = w->across[1] = -1;
+    int cycle = walk(m, ws, v, c0, c0, fwd, &nf, deg, &end_f) < 0;
+    if (!cycle) walk(m, ws, v, c0, 3 * t0 + (k0 + 2) % 3, bwd, &nb, deg, &end_b);
+    /* Leaving a counter-clockwise face through its edge k (from v to the next
+     * corner) turns clockwise, so that walk ends at side A. */
+    int ccw = m->orient[t0] > 0;
+    int32_t *first_part = ccw ? fwd : bwd, nfirst = ccw ? nf : nb;
+    int32_t *last_part = ccw ? bwd : fwd, nlast = ccw ? nb : nf;
+    w->first = *fill;
+    for (int32_t i = nfirst - 1; i >= 0; i--) ws->corners[(*fill)++] = first_part[i];
+    ws->corners[(*fill)++] = c0;
+    for (int32_t i = 0; i < nlast; i++) ws->corners[(*fill)++] = last_part[i];
+    w->count = *fill - w->first;
+    for (int32_t i = w->first; i < *fill; i++) ws->of_corner[ws->corners[i]] = ws->nw;
+    if (!cycle) {
+        set_side(m, ws, w, TC_SIDE_A, ccw ? end_f : end_b);
+        set_side(m, ws, w, TC_SIDE_B, ccw ? end_b : end_f);
+        w->collinear = w->side_edge[0] != w->side_edge[1] && tc__antiparallel(w->dir[0], w->dir[1]);
+    }
+    ws->nw++;
+}
+
+/* Links each C0 side to the wedge across it. */
+static void link_across(const struct tc_mesh *m, tc_wedge_set *ws) {
+    for (int32_t i = 0; i < ws->nw; i++) {
+        tc_wedge *w = &ws->w[i];
+        for (int s = 0; s < 2; s++) {
+            if (w->side_kind[s] != TC_C0 || w->side_edge[s] < 0) continue;
+            int32_t e = w->side_edge[s], t2 = m->nbr[e];
+            int32_t other = ws->of_corner[3 * t2 + tc__corner_of(m, t2, w->v)];
+            if (other == i) {
+                w->side_kind[s] = TC_CM1; /* cannot happen on a valid mesh; be safe */
+                continue;
+            }
+            w->across[s] = other;
+        }
+        if (w->across[0] >= 0 || w->across[1] >= 0) ws->ncoupled++;
+    }
+}
+
+static int32_t max_degree(const struct tc_mesh *m) {
+    int32_t d = 0;
+    for (int32_t v = 0; v < m->nv; v++)
+        if (m->vstart[v + 1] - m->vstart[v] > d) d = m->vstart[v + 1] - m->vstart[v];
+    return d;
+}
+
+int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc_wedge_set *ws) {
+    size_t nc = 3 * (size_t)m->nt;
+    int32_t deg = max_degree(m), fill = 0;
+    memset(ws, 0, sizeof *ws);
+    ws->honor_flags = honor_flags;
+    ws->w = tc__malloc(nc, sizeof *ws->w); /* at most one wedge per corner */
+    ws->corners = tc__malloc(nc, sizeof *ws->corners);
+    ws->of_corner = tc__malloc(nc, sizeof *ws->of_corner);
+    ws->vclass = tc__malloc((size_t)m->nv, sizeof *ws->vclass);
+    int32_t *buf = tc__malloc(2 * (size_t)deg, sizeof *buf);
+    if (!ws->w || !ws->corners || !ws->of_corner || !ws->vclass || !buf) {
+        free(buf);
+        tc__wedges_free(ws);
+        return TC_ENOMEM;
+    }
+    for (size_t c = 0; c < nc; c++) ws->of_corner[c] = -1;
+    for (int32_t v = 0; v < m->nv; v++) {
+        ws->vclass[v] = classify(m, honor_flags, v);
+        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++)
+            if (ws->of_corner[m->vcorner[i]] < 0) build_wedge(m, ws, v, m->vcorner[i], buf, deg, &fill);
+    }
+    free(buf);
+    link_across(m, ws);
+    return TC_OK;
+}

@@ -1,0 +1,42 @@
+/* wedge.h — vertex classes and the wedges around each vertex (paper §2, Fig. 4).
+ * A wedge is a maximal fan of faces at a vertex not separated by a delimiter. */
+#ifndef TC_CORE_WEDGE_H
+#define TC_CORE_WEDGE_H
+
+#include "core/mesh.h"
+
+enum { TC_SIDE_A = 0, TC_SIDE_B = 1 };
+
+/* Invariants: the corners of a wedge are contiguous in tc_wedge_set.corners and
+ * ordered counter-clockwise from side A to side B; a wedge at a C1 vertex is a
+ * full turn with no sides (side_edge = -1); a side of kind TC_C0 always has a
+ * different wedge `across` it. */
+typedef struct {
+    int32_t v;            /* the vertex */
+    int32_t first, count; /* corners[first .. first + count) */
+    int32_t side_edge[2]; /* bounding edge as an edge id 3t+k (t inside the wedge), or -1 */
+    int8_t side_kind[2];  /* TC_C0, or TC_CM1 for C-1 and boundary edges */
+    int32_t across[2];    /* the wedge across a TC_C0 side, else -1 */
+    double dir[2][2];     /* from v along each bounding edge to its other end */
+    uint8_t collinear;    /* two distinct sides at 180 degrees (paper's Collinear(W)) */
+} tc_wedge;
+
+typedef struct {
+    int32_t nw;
+    tc_wedge *w;
+    int32_t *corners;    /* [3nt] corner ids grouped by wedge */
+    int32_t *of_corner;  /* [3nt] wedge of each corner */
+    int8_t *vclass;      /* [nv] TC_C1, TC_C0 or TC_CM1 */
+    int honor_flags;     /* 0: every interior edge treated as C1 */
+    int32_t ncoupled;    /* wedges with a C0 side: work for WedgeNormal steps 3-4 */
+} tc_wedge_set;
+
+/* The continuity of edge id e as the reconstruction sees it. */
+static inline int tc__eff_flag(const struct tc_mesh *m, int honor_flags, int32_t e) {
+    return honor_flags || m->nbr[e] < 0 ? m->flag[e] : TC_C1;
+}
+
+int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc_wedge_set *ws);
+void tc__wedges_free(tc_wedge_set *ws);
+
+#endif

@@ -1,0 +1,153 @@
+/* wedgeplane.c — one tangent plane per wedge: the paper's WedgeNormal (Figure 6),
+ * in gradient form, corrected (default) or literal. See DESIGN.md §1 for the two
+ * defects of the literal version and how `corrected` fixes them. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/geom.h"
+#include "core/plane.h"
+#include "core/tangent.h"
+
+typedef struct {
+    const tc_wedge_set *ws;
+    const double *avg; /* [nw][nc][2] step 1: each wedge's average plane */
+    int nc;
+} ctx;
+
+static const double *avg_of(const ctx *x, int32_t w, int ch) { return x->avg + (2 * ((size_t)w * x->nc + ch)); }
+
+/* Step 1, AverageNormalForWedge: normalized sum of the faces' unit normals.
+ * Identical inputs (a given per-vertex plane) are returned exactly. */
+static void wedge_average(const tc_wedge_set *ws, const tc_wedge *w, const double *in, int nc, double *out) {
+    size_t stride = 2 * (size_t)nc;
+    const double *g0 = in + (size_t)ws->corners[w->first] * stride;
+    int same = 1;
+    for (int32_t i = 1; i < w->count && same; i++)
+        same = !memcmp(g0, in + (size_t)ws->corners[w->first + i] * stride, stride * sizeof *g0);
+    if (same) {
+        memcpy(out, g0, stride * sizeof *out);
+        return;
+    }
+    for (int ch = 0; ch < nc; ch++) {
+        double S[3] = {0, 0, 0};
+        for (int32_t i = 0; i < w->count; i++)
+            tc__normal_acc(S, in + (size_t)ws->corners[w->first + i] * stride + 2 * ch);
+        tc__normal_to_grad(S, out + 2 * ch);
+    }
+}
+
+/* Step 3's switch: the plane whose slope along C0 side s the wedge and its
+ * neighbour across s both use. Depends only on the pair, never on which of
+ * the two asks, so the ordinates along the shared edge agree (C0). */
+static void coupling(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
+    const tc_wedge *w = &x->ws->w[wi];
+    int32_t o = w->across[s];
+    int cw = w->collinear, co = x->ws->w[o].collinear;
+    const double *a = avg_of(x, wi, ch), *b = avg_of(x, o, ch);
+    if (cw == co) {
+        tc__avg2(a, b, g);
+    } else {
+        const double *src = cw ? a : b; /* the 180-degree wedge's own plane wins */
+        g[0] = src[0];
+        g[1] = src[1];
+    }
+}
+
+/* The plane each side of the wedge takes its edge slope from. */
+static void side_plane(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
+    if (x->ws->w[wi].across[s] >= 0) {
+        coupling(x, wi, s, ch, g);
+    } else {
+        g[0] = avg_of(x, wi, ch)[0];
+        g[1] = avg_of(x, wi, ch)[1];
+    }
+}
+
+/* The two sides lie along one ray (the same edge, or coincident edges of a
+ * crack made by duplicated vertices): they constrain one direction only. */
+static int sides_parallel(const tc_wedge *w) {
+    const double *a = w->dir[0], *b = w->dir[1];
+    return w->side_edge[0] == w->side_edge[1] ||
+           (fabs(tc__cross(a, b)) <= TC_COLLINEAR_TOL * hypot(a[0], a[1]) * hypot(b[0], b[1]) && tc__dot(a, b) > 0);
+}
+
+/* Corrected step 4. A 180-degree wedge (or one whose sides share a ray) takes
+ * its slope along the line from one plane and keeps its own cross slope — both
+ * defects of the literal version are about this case. Otherwise the plane
+ * through the two side ordinates, as in the paper. */
+static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
+    const tc_wedge *w = &x->ws->w[wi];
+    const double *own = avg_of(x, wi, ch);
+    double ga[2], gb[2];
+    if (w->collinear || sides_parallel(w)) {
+        int s = w->across[TC_SIDE_A] >= 0 ? TC_SIDE_A : TC_SIDE_B;
+        side_plane(x, wi, s, ch, ga);
+        tc__match_along(own, ga, w->dir[s], out);
+        return;
+    }
+    side_plane(x, wi, TC_SIDE_A, ch, ga);
+    side_plane(x, wi, TC_SIDE_B, ch, gb);
+    tc__solve2(w->dir[0], w->dir[1], tc__dot(ga, w->dir[0]), tc__dot(gb, w->dir[1]), out);
+}
+
+/* Literal step 4 for a 180-degree wedge: Project(N, <w_next - w_prev,
+ * 3(s_next - s_prev)>) with N the plane of the last side visited (next), in 3D
+ * normal form. Returns -1 where the projection is vertical (1 + a s = 0). */
+static int literal_collinear(const tc_wedge *w, const double gp[2], const double gn[2], double out[2]) {
+    double D[3] = {w->dir[1][0] - w->dir[0][0], w->dir[1][1] - w->dir[0][1],
+                   tc__dot(gn, w->dir[1]) - tc__dot(gp, w->dir[0])};
+    double N[3] = {-gn[0], -gn[1], 1};
+    double k = (N[0] * D[0] + N[1] * D[1] + N[2] * D[2]) / (D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
+    double P[3] = {N[0] - k * D[0], N[1] - k * D[1], N[2] - k * D[2]};
+    if (!(P[2] > 1e-12 * hypot(P[0], hypot(P[1], P[2])))) return -1;
+    tc__normal_to_grad(P, out);
+    return isfinite(out[0]) && isfinite(out[1]) ? 0 : -1;
+}
+
+static int literal(const ctx *x, int32_t wi, int ch, double out[2]) {
+    const tc_wedge *w = &x->ws->w[wi];
+    double gp[2], gn[2];
+    side_plane(x, wi, TC_SIDE_A, ch, gp);
+    side_plane(x, wi, TC_SIDE_B, ch, gn);
+    if (w->collinear) return literal_collinear(w, gp, gn, out);
+    if (sides_parallel(w)) { /* the paper's cross product vanishes here */
+        corrected(x, wi, ch, out);
+        return 0;
+    }
+    tc__solve2(w->dir[0], w->dir[1], tc__dot(gp, w->dir[0]), tc__dot(gn, w->dir[1]), out);
+    return 0;
+}
+
+int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *in, tc_wedges mode,
+                     double *out, tc_diags *dg) {
+    int nc = m->nc;
+    size_t stride = 2 * (size_t)nc;
+    for (int32_t w = 0; w < ws->nw; w++) wedge_average(ws, &ws->w[w], in, nc, out + (size_t)w * stride);
+    if (ws->ncoupled == 0) return TC_OK; /* no C0 sides: the averages are final */
+    double *avg = malloc((size_t)ws->nw * stride * sizeof *avg);
+    if (!avg) return TC_ENOMEM;
+    memcpy(avg, out, (size_t)ws->nw * stride * sizeof *avg);
+    ctx x = {ws, avg, nc};
+    int st = TC_OK;
+    for (int32_t w = 0; w < ws->nw; w++) {
+        const tc_wedge *wd = &ws->w[w];
+        if (wd->across[0] < 0 && wd->across[1] < 0) continue;
+        for (int ch = 0; ch < nc; ch++) {
+            double *g = out + (size_t)w * stride + 2 * ch;
+            if (mode == TC_WEDGES_CORRECTED) {
+                corrected(&x, w, ch, g);
+            } else if (literal(&x, w, ch, g) < 0) {
+                char path[48];
+                snprintf(path, sizeof path, "vertices[%d]", (int)wd->v);
+                st = tc_diags_add(dg, TC_SEV_ERROR, path,
+                                  "wedges \"literal\": Figure 6's Project is singular at vertex %d (1 + a*s = 0); "
+                                  "use wedges \"corrected\"", (int)wd->v);
+                break;
+            }
+        }
+    }
+    free(avg);
+    return st;
+}

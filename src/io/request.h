@@ -1,0 +1,53 @@
+/* request.h — reads a JSON request (DESIGN.md §3) into a tc_mesh_desc, options and points.
+ * Shape errors and value errors are told apart so the server can answer 400 or 422. */
+#ifndef TC_IO_REQUEST_H
+#define TC_IO_REQUEST_H
+
+#include <stddef.h>
+
+#include "tocher.h"
+
+/* Which parts a caller expects (bit flags for tc_request_parse's `expect`). */
+enum { TC_REQ_MESH = 1, TC_REQ_POINTS = 2 };
+
+typedef enum {
+    TC_REQ_OK = 0,
+    TC_REQ_MALFORMED = 1, /* not JSON, or wrong JSON types/shapes, missing field -> HTTP 400 */
+    TC_REQ_INVALID = 2,   /* well-formed JSON whose values are invalid -> HTTP 422 */
+    TC_REQ_NOMEM = 3      /* an allocation failed -> HTTP 500/503 */
+} tc_req_status;
+
+/* Number of arrays a request can own; every parsed field owns at most a few. */
+#define TC_REQ_OWNED_MAX 32
+
+typedef struct tc_request {
+    tc_mesh_desc desc;  /* every array owned by the request (valid while it lives) */
+    tc_options opt;     /* defaults (tc_options_default) unless the request names them */
+    int has_mesh;       /* vertices/triangles/values were present */
+    int values_plain;   /* "values" were plain numbers -> respond with plain numbers */
+    size_t npoints;     /* "points": [[x,y],...] */
+    double *points;     /* [npoints][2], NULL when npoints == 0 */
+    int with_gradients; /* "with_gradients": true asks /v1/evaluate for gradients */
+
+    /* private: the allocations behind desc and points, freed by tc_request_free */
+    void *owned_[TC_REQ_OWNED_MAX];
+    int nowned_;
+} tc_request;
+
+/* Parses len bytes of JSON (no NUL terminator needed; trailing whitespace allowed).
+ * expect: TC_REQ_MESH requires vertices, triangles and values; TC_REQ_POINTS
+ * requires points. Parts not expected are still parsed when present.
+ * Returns a tc_req_status. On TC_REQ_OK *out is a new request (warnings, such
+ * as unknown fields, may be in diags). Otherwise *out is NULL and diags holds the
+ * findings, each with the JSON path of the offending element; when both shape
+ * and value errors occur the result is TC_REQ_MALFORMED. diags may be NULL. */
+int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request **out,
+                     tc_diags *diags);
+void tc_request_free(tc_request *r);
+
+/* For tests only: make the n-th following allocation (1-based) of the reader on
+ * this thread fail, once, to exercise the out-of-memory paths; 0 disables. It
+ * counts the request and its arrays, not cJSON's nodes. */
+void tc_request__fail_alloc_after(long n);
+
+#endif /* TC_IO_REQUEST_H */

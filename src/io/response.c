@@ -1,0 +1,117 @@
+/* response.c — JSON writers for the core's results. Numbers go through
+ * tc_strbuf_double so every double parses back to itself. */
+#include "io/response.h"
+
+static void member(tc_strbuf *b, const char *name) {
+    if (b->len && b->buf[b->len - 1] != '{') tc_strbuf_putc(b, ',');
+    tc_strbuf_json_string(b, name);
+    tc_strbuf_putc(b, ':');
+}
+
+static void number_array(tc_strbuf *b, const double *x, int n) {
+    tc_strbuf_putc(b, '[');
+    for (int i = 0; i < n; i++) {
+        if (i) tc_strbuf_putc(b, ',');
+        tc_strbuf_double(b, x[i]);
+    }
+    tc_strbuf_putc(b, ']');
+}
+
+void tc_json_ordinates(tc_strbuf *b, const tc_recon *r) {
+    const tc_mesh *m = tc_recon_mesh(r);
+    const tc_options *o = tc_recon_options(r);
+    int nc = tc_mesh_channel_count(m), nk = tc_recon_coef_count(r);
+    int32_t nt = tc_mesh_triangle_count(m);
+    member(b, "method");
+    tc_strbuf_json_string(b, tc_method_name(o->method));
+    if (o->method == TC_METHOD_CLOUGH_TOCHER || o->method == TC_METHOD_CLOUGH_TOCHER_C1) {
+        member(b, "cross_boundary");
+        tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
+        member(b, "wedges");
+        tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
+        member(b, "tangents");
+        tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
+    }
+    member(b, "channels");
+    tc_strbuf_int(b, nc);
+    member(b, "labels");
+    tc_strbuf_putc(b, '[');
+    for (int i = 0; i < nk; i++) {
+        if (i) tc_strbuf_putc(b, ',');
+        tc_strbuf_json_string(b, tc_recon_coef_label(r, i));
+    }
+    tc_strbuf_putc(b, ']');
+    member(b, "ordinates");
+    tc_strbuf_putc(b, '[');
+    const double *coef = tc_recon_coefs(r);
+    for (int32_t t = 0; t < nt && !b->oom; t++) {
+        tc_strbuf_puts(b, t ? ",\n[" : "\n[");
+        for (int ch = 0; ch < nc; ch++) {
+            if (ch) tc_strbuf_putc(b, ',');
+            number_array(b, coef + ((size_t)t * nc + ch) * nk, nk);
+        }
+        tc_strbuf_putc(b, ']');
+    }
+    tc_strbuf_puts(b, "\n]");
+}
+
+/* One point's values or gradients: a number or array per channel, or null. */
+static void point_entry(tc_strbuf *b, const double *x, int nc, int width, int plain, int outside) {
+    if (outside) {
+        tc_strbuf_puts(b, "null");
+    } else if (plain && nc == 1) {
+        if (width == 1) tc_strbuf_double(b, x[0]);
+        else number_array(b, x, width);
+    } else {
+        tc_strbuf_putc(b, '[');
+        for (int ch = 0; ch < nc; ch++) {
+            if (ch) tc_strbuf_putc(b, ',');
+            if (width == 1) tc_strbuf_double(b, x[ch]);
+            else number_array(b, x + (size_t)ch * width, width);
+        }
+        tc_strbuf_putc(b, ']');
+    }
+}
+
+void tc_json_points(tc_strbuf *b, int nc, size_t n, const double *values, const double *grads,
+                    const int32_t *tri, int plain) {
+    member(b, "values");
+    tc_strbuf_putc(b, '[');
+    for (size_t i = 0; i < n; i++) {
+        if (i) tc_strbuf_putc(b, ',');
+        point_entry(b, values + i * nc, nc, 1, plain, tri && tri[i] < 0);
+    }
+    tc_strbuf_putc(b, ']');
+    if (grads) {
+        member(b, "gradients");
+        tc_strbuf_putc(b, '[');
+        for (size_t i = 0; i < n; i++) {
+            if (i) tc_strbuf_putc(b, ',');
+            point_entry(b, grads + 2 * i * nc, nc, 2, plain, tri && tri[i] < 0);
+        }
+        tc_strbuf_putc(b, ']');
+    }
+    member(b, "outside");
+    tc_strbuf_putc(b, '[');
+    for (size_t i = 0, k = 0; tri && i < n; i++)
+        if (tri[i] < 0) {
+            if (k++) tc_strbuf_putc(b, ',');
+            tc_strbuf_int(b, (long long)i);
+        }
+    tc_strbuf_putc(b, ']');
+}
+
+void tc_json_diags(tc_strbuf *b, const char *name, const tc_diags *d, tc_severity sev) {
+    member(b, name);
+    tc_strbuf_putc(b, '[');
+    int k = 0;
+    for (int i = 0; d && i < d->count; i++) {
+        if (d->items[i].severity != sev) continue;
+        tc_strbuf_puts(b, k++ ? ",{\"path\":" : "{\"path\":");
+        tc_strbuf_json_string(b, d->items[i].path);
+        tc_strbuf_puts(b, ",\"message\":");
+        tc_strbuf_json_string(b, d->items[i].message);
+        tc_strbuf_putc(b, '}');
+    }
+    tc_strbuf_putc(b, ']');
+}

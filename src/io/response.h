@@ -1,0 +1,25 @@
+/* response.h — JSON text of the core's results: ordinates, point values,
+ * diagnostics and problem documents, every number printed exactly. */
+#ifndef TC_IO_RESPONSE_H
+#define TC_IO_RESPONSE_H
+
+#include "io/strbuf.h"
+#include "tocher.h"
+
+/* The writers append object members ("name":value, comma-separated, no outer
+ * braces) so callers can compose one object from several writers. */
+
+/* "method", the options it used, "channels", "labels", "ordinates":
+ * [triangle][channel][coefficient]. */
+void tc_json_ordinates(tc_strbuf *b, const tc_recon *r);
+
+/* "values" ([n] plain numbers when plain and one channel, else [n][C]),
+ * "gradients" ([n][2] or [n][C][2]) when grads != NULL, "outside" (indices
+ * of points outside the mesh, whose values and gradients are null). */
+void tc_json_points(tc_strbuf *b, int nc, size_t n, const double *values, const double *grads,
+                    const int32_t *tri, int plain);
+
+/* "warnings": [{"path","message"}...] or "errors": [...] from d. */
+void tc_json_diags(tc_strbuf *b, const char *member, const tc_diags *d, tc_severity sev);
+
+#endif

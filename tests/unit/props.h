@@ -1,0 +1,18 @@
+/* props.h — shared checks of reconstruction properties used by several test
+ * files: continuity residuals, scales, the standard smooth test function. */
+#ifndef TC_TEST_PROPS_H
+#define TC_TEST_PROPS_H
+
+#include "meshgen.h"
+#include "tocher.h"
+
+typedef struct { double corner, c0, c1, vertex, internal; } cont_report;
+
+void smooth_f(const void *ctx, double x, double y, int ch, double *v, double g[2]);
+void recon_scales(const tc_recon *r, double *vs, double *gs);
+/* Checks (CHECK) interpolation and every continuity the flags promise, each
+ * relative residual <= tol; fills rep with the worst residuals. */
+void check_continuity(const tc_recon *r, const tmesh *g, double tol, cont_report *rep);
+void random_flagged_mesh(tmesh *g, trng *r, int delaunay, int n);
+
+#endif

@@ -1,0 +1,245 @@
+/* test_exact.c — polynomial reproduction and convergence: linear data by every
+ * method but constant, quadratics by normal/affine with exact gradients, and
+ * the observed order of accuracy under refinement. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "check.h"
+#include "meshgen.h"
+#include "props.h"
+
+static void linear_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
+    (void)ctx;
+    g[0] = 0.7 - 0.2 * ch;
+    g[1] = -1.3 + 0.5 * ch;
+    *v = 2.0 + ch + g[0] * x + g[1] * y;
+}
+
+static void quadratic_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
+    (void)ctx;
+    double a = 0.9 + 0.3 * ch;
+    *v = 1.0 + 0.4 * x - 0.3 * y + a * x * x - 1.1 * x * y + 0.6 * y * y;
+    g[0] = 0.4 + 2 * a * x - 1.1 * y;
+    g[1] = -0.3 - 1.1 * x + 1.2 * y;
+}
+
+static void const_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
+    (void)ctx, (void)x, (void)y;
+    *v = 3.25 - ch;
+    g[0] = g[1] = 0;
+}
+
+/* Worst relative error of value and gradient against f at `npts` random
+ * points inside random triangles (barycentric sampling, no point location). */
+static double reproduction_error(const tc_recon *rec, tfunc f, int npts, trng *r, int check_grad) {
+    const tc_mesh *m = tc_recon_mesh(rec);
+    const double *xy = tc_mesh_xy(m);
+    const int32_t *tri = tc_mesh_triangles(m);
+    int nc = tc_mesh_channel_count(m);
+    double worst = 0, vs, gs;
+    recon_scales(rec, &vs, &gs);
+    for (int i = 0; i < npts; i++) {
+        int32_t t = trng_int(r, tc_mesh_triangle_count(m));
+        double a = trng_uniform(r), b = trng_uniform(r);
+        if (a + b > 1) a = 1 - a, b = 1 - b;
+        const double *p0 = xy + 2 * tri[3 * t], *p1 = xy + 2 * tri[3 * t + 1], *p2 = xy + 2 * tri[3 * t + 2];
+        double x = p0[0] + a * (p1[0] - p0[0]) + b * (p2[0] - p0[0]);
+        double y = p0[1] + a * (p1[1] - p0[1]) + b * (p2[1] - p0[1]);
+        double val[TC_MAX_CHANNELS], grad[2 * TC_MAX_CHANNELS];
+        tc_eval_triangle(rec, t, x, y, val, grad);
+        for (int ch = 0; ch < nc; ch++) {
+            double fv, fg[2];
+            f(NULL, x, y, ch, &fv, fg);
+            worst = fmax(worst, fabs(val[ch] - fv) / vs);
+            if (check_grad) worst = fmax(worst, hypot(grad[2 * ch] - fg[0], grad[2 * ch + 1] - fg[1]) / gs);
+        }
+    }
+    return worst;
+}
+
+static tc_recon *make(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan) {
+    tc_options o = {method, cross, wedges, tan};
+    tc_recon *r = NULL;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    CHECK_MSG(tc_recon_new(m, &o, &r, &dg) == TC_OK, "%s/%s/%s/%s: %s", tc_method_name(method),
+              tc_cross_name(cross), tc_wedges_name(wedges), tc_tangents_name(tan),
+              dg.count ? dg.items[0].message : "");
+    tc_diags_free(&dg);
+    return r;
+}
+
+/* Every combination of options on flagged random meshes reproduces a linear
+ * function (value and gradient) to 1e-12 relative; constant reproduces a constant. */
+TEST(exact_linear_reproduced_by_every_method) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 10);
+    const tc_method methods[] = {TC_METHOD_CLOUGH_TOCHER, TC_METHOD_CLOUGH_TOCHER_C1, TC_METHOD_LINEAR,
+                                 TC_METHOD_LINEAR4};
+    double worst = 0;
+    for (int trial = 0; trial < 4; trial++) {
+        tmesh g;
+        random_flagged_mesh(&g, &r, trial % 2, 12);
+        tmesh_sample(&g, 2, linear_f, NULL, 1, 1, 0);
+        tc_mesh *m = tmesh_build(&g);
+        for (int mi = 0; m && mi < 4; mi++)
+            for (int ci = 0; ci < 3; ci++)
+                for (int wi = 0; wi < 2; wi++)
+                    for (int ti = 0; ti < 4; ti++) {
+                        if (methods[mi] >= TC_METHOD_LINEAR && (ci || wi || ti)) continue;
+                        tc_recon *rec = make(m, methods[mi], (tc_cross)ci, (tc_wedges)wi, (tc_tangents)ti);
+                        if (!rec) continue;
+                        double e = reproduction_error(rec, linear_f, 300, &r, 1);
+                        worst = fmax(worst, e);
+                        CHECK_MSG(e <= 1e-12, "%s cross %s wedges %s tangents %s: linear off by %.3g",
+                                  tc_method_name(methods[mi]), tc_cross_name((tc_cross)ci),
+                                  tc_wedges_name((tc_wedges)wi), tc_tangents_name((tc_tangents)ti), e);
+                        tc_recon_free(rec);
+                    }
+        tc_mesh_free(m);
+        tmesh_free(&g);
+    }
+    fprintf(stderr, "  [linear reproduction] worst relative error over all methods/options: %.2g\n", worst);
+}
+
+TEST(exact_constant_reproduced_by_constant) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 11);
+    tmesh g;
+    random_flagged_mesh(&g, &r, 1, 12);
+    tmesh_sample(&g, 3, const_f, NULL, 1, 1, 0);
+    tc_mesh *m = tmesh_build(&g);
+    tc_recon *rec = m ? make(m, TC_METHOD_CONSTANT, 0, 0, 0) : NULL;
+    if (rec) CHECK(reproduction_error(rec, const_f, 500, &r, 1) == 0);
+    tc_recon_free(rec);
+    /* ...and it does not reproduce a linear function: the check above can fail. */
+    tmesh_free(&g);
+    tc_mesh_free(m);
+    random_flagged_mesh(&g, &r, 0, 12);
+    tmesh_sample(&g, 1, linear_f, NULL, 0, 0, 0);
+    m = tmesh_build(&g);
+    rec = m ? make(m, TC_METHOD_CONSTANT, 0, 0, 0) : NULL;
+    if (rec) CHECK(reproduction_error(rec, linear_f, 500, &r, 0) > 1e-3);
+    tc_recon_free(rec);
+    tc_mesh_free(m);
+    tmesh_free(&g);
+}
+
+/* normal and affine reproduce quadratics given exact gradients, on flagged
+ * meshes too (the data is smooth, so every wedge plane is the exact one);
+ * salesin does not (its cross-boundary plane is an average), which keeps the
+ * check honest. Estimated tangents (a quadratic fit) reproduce them as well. */
+TEST(exact_quadratic_reproduced_by_normal_and_affine) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 12);
+    double worst = 0, salesin = 0;
+    for (int trial = 0; trial < 4; trial++) {
+        tmesh g;
+        random_flagged_mesh(&g, &r, trial % 2, 12);
+        tmesh_sample(&g, 2, quadratic_f, NULL, 1, 0, 0);
+        tc_mesh *m = tmesh_build(&g);
+        for (int ci = 0; m && ci < 3; ci++)
+            for (int mi = 0; mi < 2; mi++) {
+                tc_method method = mi ? TC_METHOD_CLOUGH_TOCHER_C1 : TC_METHOD_CLOUGH_TOCHER;
+                tc_recon *rec = make(m, method, (tc_cross)ci, TC_WEDGES_CORRECTED, TC_TANGENTS_GIVEN);
+                if (!rec) continue;
+                double e = reproduction_error(rec, quadratic_f, 400, &r, 1);
+                if (ci == TC_CROSS_SALESIN) {
+                    salesin = fmax(salesin, e);
+                } else {
+                    worst = fmax(worst, e);
+                    CHECK_MSG(e <= 1e-12, "%s/%s: quadratic off by %.3g", tc_method_name(method),
+                              tc_cross_name((tc_cross)ci), e);
+                }
+                tc_recon_free(rec);
+            }
+        tc_mesh_free(m);
+        tmesh_free(&g);
+    }
+    CHECK_MSG(salesin > 1e-6, "salesin is not quadratic-exact; error %.3g", salesin);
+    fprintf(stderr, "  [quadratic reproduction] normal/affine worst %.2g; salesin %.2g (not exact, as expected)\n",
+            worst, salesin);
+}
+
+TEST(exact_quadratic_with_estimated_tangents_on_interior) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 13);
+    tmesh g;
+    tmesh_grid(&g, 12, 12, 0.25, -1, &r);
+    tmesh_sample(&g, 1, quadratic_f, NULL, 0, 1, 0);
+    tc_mesh *m = tmesh_build(&g);
+    tc_recon *rec = m ? make(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, 0, TC_TANGENTS_ESTIMATE) : NULL;
+    if (rec) {
+        double e = reproduction_error(rec, quadratic_f, 500, &r, 1);
+        CHECK_MSG(e <= 1e-10, "quadratic fit should make the estimate exact, error %.3g", e);
+    }
+    tc_recon_free(rec);
+    tc_mesh_free(m);
+    tmesh_free(&g);
+}
+
+/* ---- convergence ---- */
+
+static void wave_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
+    (void)ctx, (void)ch;
+    *v = exp(0.7 * x) * sin(2.5 * y + 0.3) + cos(1.7 * x * y);
+    g[0] = 0.7 * exp(0.7 * x) * sin(2.5 * y + 0.3) - 1.7 * y * sin(1.7 * x * y);
+    g[1] = 2.5 * exp(0.7 * x) * cos(2.5 * y + 0.3) - 1.7 * x * sin(1.7 * x * y);
+}
+
+/* Max error over a fixed cloud of points (located by brute force on the
+ * structured grid: cell, then diagonal). */
+static double max_error(const tc_recon *rec, int n) {
+    double worst = 0;
+    trng r;
+    trng_seed(&r, 99);
+    for (int i = 0; i < 4000; i++) {
+        double x = trng_uniform(&r), y = trng_uniform(&r), v, fv, fg[2];
+        int ci = (int)(x * n), cj = (int)(y * n);
+        double fx = x * n - ci, fy = y * n - cj;
+        int32_t t = 2 * (cj * n + ci) + (fy > fx); /* diag 0: (a,b,c) below the diagonal, (a,c,d) above */
+        tc_eval_triangle(rec, t, x, y, &v, NULL);
+        wave_f(NULL, x, y, 0, &fv, fg);
+        worst = fmax(worst, fabs(v - fv));
+    }
+    return worst;
+}
+
+static double observed_order(tc_method method, tc_cross cross, tc_tangents tan, int with_mid) {
+    double err[4];
+    int ns[4] = {8, 16, 32, 64};
+    for (int l = 0; l < 4; l++) {
+        tmesh g;
+        tmesh_grid(&g, ns[l], ns[l], 0, 0, NULL);
+        tmesh_sample(&g, 1, wave_f, NULL, 1, with_mid, 0);
+        tc_mesh *m = tmesh_build(&g);
+        tc_recon *rec = m ? make(m, method, cross, TC_WEDGES_CORRECTED, tan) : NULL;
+        err[l] = rec ? max_error(rec, ns[l]) : NAN;
+        tc_recon_free(rec);
+        tc_mesh_free(m);
+        tmesh_free(&g);
+    }
+    double order = log2(err[2] / err[3]);
+    fprintf(stderr, "  [order] %-16s %-7s %-9s max error %.2e %.2e %.2e %.2e -> order %.2f\n", tc_method_name(method),
+            method <= TC_METHOD_CLOUGH_TOCHER_C1 ? tc_cross_name(cross) : "", tc_tangents_name(tan), err[0], err[1],
+            err[2], err[3], order);
+    return order;
+}
+
+TEST(exact_convergence_orders) {
+    for (int ci = 0; ci < 3; ci++) {
+        double o = observed_order(TC_METHOD_CLOUGH_TOCHER, (tc_cross)ci, TC_TANGENTS_GIVEN, 0);
+        CHECK_MSG(o >= 2.8, "cubic (%s, exact gradients) order %.2f < 2.8", tc_cross_name((tc_cross)ci), o);
+    }
+    double o = observed_order(TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, TC_TANGENTS_MIDPOINTS, 1);
+    CHECK_MSG(o >= 2.5, "cubic with midpoint tangents order %.2f", o);
+    o = observed_order(TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, TC_TANGENTS_ESTIMATE, 0);
+    CHECK_MSG(o >= 2.5, "cubic with estimated tangents order %.2f", o);
+    o = observed_order(TC_METHOD_LINEAR, 0, 0, 0);
+    CHECK_MSG(o >= 1.8 && o <= 2.2, "linear order %.2f, expected about 2", o);
+    o = observed_order(TC_METHOD_LINEAR4, 0, 0, 1);
+    CHECK_MSG(o >= 1.8 && o <= 2.2, "linear4 order %.2f, expected about 2", o);
+    o = observed_order(TC_METHOD_CONSTANT, 0, 0, 0);
+    CHECK_MSG(o >= 0.8 && o <= 1.2, "constant order %.2f, expected about 1", o);
+}

@@ -1,0 +1,824 @@
+/* test_validate.c — every validation rule of tc_mesh_new / tc_recon_new driven by a minimal input:
+ * the status, *out == NULL, the JSON path of the first finding and its message, and that a corrected input passes. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "check.h"
+#include "tocher.h"
+
+/* ---- the base input: the unit square split along its diagonal (0, 2) ---------------- */
+
+static const double SQ_XY[] = {0, 0, 1, 0, 1, 1, 0, 1};
+static const int32_t SQ_TRI[] = {0, 1, 2, 0, 2, 3};
+static const double SQ_VAL[] = {1, 2, 3, 4};
+
+static tc_mesh_desc square(void) {
+    tc_mesh_desc d;
+    memset(&d, 0, sizeof d);
+    d.nverts = 4, d.xy = SQ_XY;
+    d.ntris = 2, d.tris = SQ_TRI;
+    d.nchan = 1, d.values = SQ_VAL;
+    return d;
+}
+
+/* A polyline set holding one polyline of n vertices (start must have room for 2). */
+static tc_polylines line(int32_t *start, const int32_t *verts, int32_t n) {
+    start[0] = 0, start[1] = n;
+    return (tc_polylines){1, start, verts};
+}
+
+/* Checks the first finding of a failed call: an error at exactly `path` whose
+ * message contains every string of the NULL-terminated `needles`. */
+static void check_first(const char *file, int line_no, const tc_diags *dg, const char *path,
+                        const char *const *needles) {
+    if (dg->errors < 1 || dg->count < 1) {
+        tc_test_fail(file, line_no, "no error reported");
+        return;
+    }
+    const tc_diag *e = &dg->items[0];
+    if (e->severity != TC_SEV_ERROR) tc_test_fail(file, line_no, "first finding is not an error");
+    if (strcmp(e->path, path) != 0)
+        tc_test_fail(file, line_no, "path '%s', expected '%s' (message: %s)", e->path, path, e->message);
+    for (; *needles; needles++)
+        if (!strstr(e->message, *needles))
+            tc_test_fail(file, line_no, "message '%s' does not contain '%s'", e->message, *needles);
+}
+
+static void mesh_fails(const char *file, int line_no, const tc_mesh_desc *d, const char *path,
+                       const char *const *needles) {
+    tc_mesh *m = (tc_mesh *)&m;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    int st = tc_mesh_new(d, &m, &dg);
+    if (st != TC_EINVAL) tc_test_fail(file, line_no, "status %d, expected TC_EINVAL", st);
+    if (m != NULL) tc_test_fail(file, line_no, "*out is not NULL on failure");
+    check_first(file, line_no, &dg, path, needles);
+    if (st == TC_OK) tc_mesh_free(m);
+    tc_diags_free(&dg);
+}
+
+/* Builds the mesh and expects success without errors; returns it (caller frees). */
+static tc_mesh *mesh_ok(const char *file, int line_no, const tc_mesh_desc *d, tc_diags *dg) {
+    tc_mesh *m = NULL;
+    int st = tc_mesh_new(d, &m, dg);
+    if (st != TC_OK || !m)
+        tc_test_fail(file, line_no, "status %d, expected TC_OK (first finding: %s: %s)", st,
+                     dg->count ? dg->items[0].path : "-", dg->count ? dg->items[0].message : "-");
+    if (dg->errors) tc_test_fail(file, line_no, "%d errors on success", dg->errors);
+    return m;
+}
+
+static void mesh_passes(const char *file, int line_no, const tc_mesh_desc *d) {
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh_free(mesh_ok(file, line_no, d, &dg));
+    if (dg.warnings) tc_test_fail(file, line_no, "%d unexpected warnings", dg.warnings);
+    tc_diags_free(&dg);
+}
+
+static tc_options opts(tc_method method, tc_tangents tangents, tc_wedges wedges) {
+    tc_options o;
+    tc_options_default(&o);
+    o.method = method, o.tangents = tangents, o.wedges = wedges;
+    return o;
+}
+
+static void recon_fails(const char *file, int line_no, const tc_mesh_desc *d, tc_options o, const char *path,
+                        const char *const *needles) {
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(file, line_no, d, &dg);
+    if (m) {
+        tc_recon *r = (tc_recon *)&r;
+        int st = tc_recon_new(m, &o, &r, &dg);
+        if (st != TC_EINVAL) tc_test_fail(file, line_no, "status %d, expected TC_EINVAL", st);
+        if (r != NULL) tc_test_fail(file, line_no, "*out is not NULL on failure");
+        check_first(file, line_no, &dg, path, needles);
+        if (st == TC_OK) tc_recon_free(r);
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}
+
+/* Builds mesh and reconstruction, expects success and finite coefficients;
+ * warnings are left in *dg for the caller. */
+static void recon_passes(const char *file, int line_no, const tc_mesh_desc *d, tc_options o, tc_diags *dg) {
+    tc_mesh *m = mesh_ok(file, line_no, d, dg);
+    if (m) {
+        tc_recon *r = NULL;
+        int st = tc_recon_new(m, &o, &r, dg);
+        if (st != TC_OK || !r) {
+            tc_test_fail(file, line_no, "recon status %d, expected TC_OK (first finding: %s: %s)", st,
+                         dg->count ? dg->items[0].path : "-", dg->count ? dg->items[0].message : "-");
+        } else {
+            size_t n = (size_t)tc_mesh_triangle_count(m) * tc_mesh_channel_count(m) * tc_recon_coef_count(r);
+            for (size_t i = 0; i < n; i++)
+                if (!isfinite(tc_recon_coefs(r)[i])) {
+                    tc_test_fail(file, line_no, "coefficient %zu is %g", i, tc_recon_coefs(r)[i]);
+                    break;
+                }
+        }
+        tc_recon_free(r);
+    }
+    tc_mesh_free(m);
+}
+
+#define NEEDLES(...) ((const char *const[]){__VA_ARGS__, NULL})
+#define FAILS(d, path, ...) mesh_fails(__FILE__, __LINE__, d, path, NEEDLES(__VA_ARGS__))
+#define PASSES(d) mesh_passes(__FILE__, __LINE__, d)
+#define RECON_FAILS(d, o, path, ...) recon_fails(__FILE__, __LINE__, d, o, path, NEEDLES(__VA_ARGS__))
+#define RECON_PASSES(d, o, dg) recon_passes(__FILE__, __LINE__, d, o, dg)
+
+/* ---- 1. sizes ---------------------------------------------------------------------- */
+
+TEST(validate_no_vertices) {
+    tc_mesh_desc d = square();
+    d.nverts = 0;
+    FAILS(&d, "vertices", "no vertices");
+    d = square();
+    d.xy = NULL;
+    FAILS(&d, "vertices", "no vertices");
+    d = square();
+    PASSES(&d);
+}
+
+TEST(validate_no_triangles) {
+    tc_mesh_desc d = square();
+    d.ntris = 0;
+    FAILS(&d, "triangles", "no triangles");
+    d = square();
+    d.tris = NULL;
+    FAILS(&d, "triangles", "no triangles");
+}
+
+TEST(validate_channel_count) {
+    tc_mesh_desc d = square();
+    d.nchan = 0;
+    FAILS(&d, "values", "0 channels", "1 to 16");
+    double v17[4 * 17] = {0};
+    d.nchan = 17, d.values = v17;
+    FAILS(&d, "values", "17 channels", "1 to 16");
+    double v16[4 * 16] = {0};
+    d.nchan = 16, d.values = v16;
+    PASSES(&d);
+    d = square();
+    d.values = NULL;
+    FAILS(&d, "values", "no values");
+}
+
+/* ---- 2. numbers that are not finite ------------------------------------------------- */
+
+TEST(validate_vertex_not_finite) {
+    double xy[8];
+    memcpy(xy, SQ_XY, sizeof xy);
+    tc_mesh_desc d = square();
+    d.xy = xy;
+    xy[2 * 2 + 1] = NAN;
+    FAILS(&d, "vertices[2][1]", "not finite");
+    xy[2 * 2 + 1] = 1, xy[0] = -INFINITY;
+    FAILS(&d, "vertices[0][0]", "not finite");
+    xy[0] = 0;
+    PASSES(&d);
+}
+
+TEST(validate_value_not_finite) {
+    double v[4] = {1, 2, 3, NAN};
+    tc_mesh_desc d = square();
+    d.values = v;
+    FAILS(&d, "values[3]", "not finite");
+    double v2[8] = {1, 1, 2, INFINITY, 3, 3, 4, 4}; /* 2 channels: the path names the vertex */
+    d.nchan = 2, d.values = v2;
+    FAILS(&d, "values[1]", "not finite");
+    v2[3] = 2;
+    PASSES(&d);
+}
+
+TEST(validate_corner_value_not_finite) {
+    int32_t tri = 1;
+    double cv[3] = {1, INFINITY, 4};
+    tc_mesh_desc d = square();
+    d.ncorner_values = 1, d.corner_values_tri = &tri, d.corner_values = cv;
+    FAILS(&d, "corner_values[0].values", "not finite");
+    cv[1] = 3;
+    PASSES(&d);
+}
+
+TEST(validate_gradient_not_finite) {
+    double g[8] = {0, 0, 1, 0, 0, NAN, 0, 0};
+    tc_mesh_desc d = square();
+    d.gradients = g;
+    FAILS(&d, "gradients[2]", "not finite");
+    g[5] = 1;
+    PASSES(&d);
+}
+
+TEST(validate_normal_not_finite) {
+    double n[12] = {0, 0, 1, 0, 0, 1, 0, NAN, 1, 0, 0, 1};
+    tc_mesh_desc d = square();
+    d.normals = n;
+    FAILS(&d, "normals[2]", "not finite");
+    n[7] = 0.5;
+    PASSES(&d);
+}
+
+TEST(validate_corner_gradient_not_finite) {
+    int32_t tri = 0;
+    double cg[6] = {0, 0, INFINITY, 0, 0, 0};
+    tc_mesh_desc d = square();
+    d.ncorner_gradients = 1, d.corner_gradients_tri = &tri, d.corner_gradients = cg;
+    FAILS(&d, "corner_gradients[0].gradients[1]", "not finite");
+    cg[2] = 1;
+    PASSES(&d);
+}
+
+TEST(validate_midpoint_not_finite) {
+    int32_t edge[2] = {0, 2};
+    double z = NAN;
+    tc_mesh_desc d = square();
+    d.nmidpoints = 1, d.midpoint_edge = edge, d.midpoint_values = &z;
+    FAILS(&d, "midpoints[0].value", "not finite");
+    z = 2;
+    PASSES(&d);
+}
+
+/* ---- 3-4. triangles -------------------------------------------------------------------- */
+
+TEST(validate_triangle_index_range) {
+    int32_t tri[6] = {0, 1, 2, 0, 2, 4};
+    tc_mesh_desc d = square();
+    d.tris = tri;
+    FAILS(&d, "triangles[1][2]", "index 4", "4 vertices");
+    tri[5] = 3, tri[1] = -1;
+    FAILS(&d, "triangles[0][1]", "index -1", "4 vertices");
+    tri[1] = 1;
+    PASSES(&d);
+}
+
+TEST(validate_triangle_repeats_vertex) {
+    int32_t tri[6] = {0, 1, 2, 0, 2, 0};
+    tc_mesh_desc d = square();
+    d.tris = tri;
+    FAILS(&d, "triangles[1]", "appears twice", "[0, 2, 0]");
+    tri[5] = 3;
+    PASSES(&d);
+}
+
+/* Vertex 4 on the line through 0 and 1; then moved below it. */
+TEST(validate_zero_area_collinear) {
+    double xy[10] = {0, 0, 1, 0, 1, 1, 0, 1, 2, 0};
+    int32_t tri[9] = {0, 1, 2, 0, 2, 3, 0, 4, 1};
+    double v[5] = {1, 2, 3, 4, 5};
+    tc_mesh_desc d = square();
+    d.nverts = 5, d.xy = xy, d.ntris = 3, d.tris = tri, d.values = v;
+    FAILS(&d, "triangles[2]", "zero-area", "0, 4, 1");
+    xy[8] = 0.5, xy[9] = -1;
+    PASSES(&d);
+}
+
+/* Vertex 4 on top of vertex 2 (a different index): no repeated index, but no area. */
+TEST(validate_zero_area_coincident) {
+    double xy[10] = {0, 0, 1, 0, 1, 1, 0, 1, 1, 1};
+    int32_t tri[9] = {0, 1, 2, 0, 2, 3, 1, 4, 2};
+    double v[5] = {1, 2, 3, 4, 5};
+    tc_mesh_desc d = square();
+    d.nverts = 5, d.xy = xy, d.ntris = 3, d.tris = tri, d.values = v;
+    FAILS(&d, "triangles[2]", "zero-area", "1, 4, 2");
+    xy[8] = 2, xy[9] = 0.5;
+    PASSES(&d);
+}
+
+/* ---- 5-7. topology --------------------------------------------------------------------- */
+
+TEST(validate_repeated_triangle) {
+    int32_t tri[6] = {0, 1, 2, 2, 1, 0}; /* the other orientation */
+    tc_mesh_desc d = square();
+    d.ntris = 2, d.tris = tri;
+    FAILS(&d, "triangles[1]", "repeats triangles[0]");
+    tri[3] = 1, tri[4] = 2, tri[5] = 0; /* same orientation, rotated */
+    FAILS(&d, "triangles[1]", "repeats triangles[0]");
+    tri[3] = 0, tri[4] = 2, tri[5] = 3;
+    PASSES(&d);
+}
+
+/* A repeat next to other triangles: the repeat is reported, at the later copy. */
+TEST(validate_repeated_triangle_in_mesh) {
+    int32_t tri[9] = {0, 1, 2, 0, 2, 3, 2, 0, 1};
+    tc_mesh_desc d = square();
+    d.ntris = 3, d.tris = tri;
+    tc_mesh *m = (tc_mesh *)&m;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    CHECK(tc_mesh_new(&d, &m, &dg) == TC_EINVAL);
+    CHECK(m == NULL);
+    int found = 0;
+    for (int i = 0; i < dg.count; i++)
+        found |= !strcmp(dg.items[i].path, "triangles[2]") && strstr(dg.items[i].message, "repeats triangles[0]");
+    CHECK_MSG(found, "no 'repeats triangles[0]' at triangles[2] among %d findings (first: %s: %s)", dg.count,
+              dg.count ? dg.items[0].path : "-", dg.count ? dg.items[0].message : "-");
+    tc_diags_free(&dg);
+}
+
+/* Edge (2, 0) of the square also used by a third triangle (0, 2, 4). */
+TEST(validate_nonmanifold_edge) {
+    double xy[10] = {0, 0, 1, 0, 1, 1, 0, 1, 2, 0.5};
+    int32_t tri[9] = {0, 1, 2, 0, 2, 3, 0, 2, 4};
+    double v[5] = {1, 2, 3, 4, 5};
+    tc_mesh_desc d = square();
+    d.nverts = 5, d.xy = xy, d.ntris = 3, d.tris = tri, d.values = v;
+    FAILS(&d, "triangles[2]", "non-manifold edge [2, 0]", "3 triangles", "(0, 1, 2)");
+    tri[6] = 1, tri[7] = 4, tri[8] = 2;
+    PASSES(&d);
+}
+
+/* Vertex 3 moved below the diagonal: triangle 1 folds over triangle 0. */
+TEST(validate_folded_triangles) {
+    double xy[8] = {0, 0, 1, 0, 1, 1, 0.9, 0.1};
+    tc_mesh_desc d = square();
+    d.xy = xy;
+    FAILS(&d, "triangles[1]", "overlaps triangles[0]", "shared edge [2, 0]");
+    xy[6] = 0, xy[7] = 1;
+    PASSES(&d);
+}
+
+TEST(validate_triangles_both_orientations_pass) {
+    int32_t tri[6] = {0, 1, 2, 3, 2, 0}; /* counter-clockwise, then clockwise */
+    tc_mesh_desc d = square();
+    d.tris = tri;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    if (m) {
+        int nk = -1;
+        CHECK(tc_mesh_neighbor(m, 0, 2, &nk) == 1 && nk == 1);
+        CHECK(tc_mesh_edge_flag(m, 0, 2) == TC_C1);
+    }
+    tc_mesh_free(m);
+    tc_options o;
+    tc_options_default(&o);
+    RECON_PASSES(&d, o, &dg);
+    CHECK(dg.count == 0);
+    tc_diags_free(&dg);
+}
+
+/* A crack along x = 1/2 from the bottom to the centre: vertices 1 and 2 coincide,
+ * each side has its own triangles, vertex 7 (the centre) is shared. */
+TEST(validate_crack_of_duplicated_vertices_passes) {
+    const double xy[16] = {0, 0, 0.5, 0, 0.5, 0, 1, 0, 0, 1, 0.5, 1, 1, 1, 0.5, 0.5};
+    const int32_t tri[18] = {0, 1, 7, 0, 7, 4, 4, 7, 5, 2, 3, 7, 3, 6, 7, 7, 6, 5};
+    const double v[8] = {1, 2, 5, 3, 1, 1.5, 2, 1.75}; /* a jump across the crack */
+    tc_mesh_desc d = square();
+    d.nverts = 8, d.xy = xy, d.ntris = 6, d.tris = tri, d.values = v;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    CHECK(dg.count == 0);
+    if (m) CHECK(tc_mesh_neighbor(m, 0, 1, NULL) == -1 && tc_mesh_neighbor(m, 3, 2, NULL) == -1);
+    tc_mesh_free(m);
+    RECON_PASSES(&d, opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_AUTO, TC_WEDGES_CORRECTED), &dg);
+    RECON_PASSES(&d, opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_AUTO, TC_WEDGES_LITERAL), &dg);
+    CHECK(dg.errors == 0);
+    tc_diags_free(&dg);
+}
+
+/* ---- 8. values that disagree across a C0 / C1 edge -------------------------------------- */
+
+TEST(validate_corner_values_disagree) {
+    int32_t tri = 1, st[2];
+    const int32_t diag[2] = {0, 2};
+    double cv[3] = {1, 7, 4}; /* triangle 1 = (0, 2, 3); vertex 2 is 3 in triangle 0 */
+    tc_mesh_desc d = square();
+    d.ncorner_values = 1, d.corner_values_tri = &tri, d.corner_values = cv;
+    FAILS(&d, "corner_values[0]", "C1 edge [2, 0]", "vertex 2", "3 (triangle 0)", "7 (triangle 1)", "c-1");
+    d.c0 = line(st, diag, 2);
+    FAILS(&d, "corner_values[0]", "C0 edge [2, 0]", "vertex 2", "3 (triangle 0)", "7 (triangle 1)", "c-1");
+    d.c0 = (tc_polylines){0, NULL, NULL};
+    d.cm1 = line(st, diag, 2);
+    PASSES(&d);
+    d.cm1 = (tc_polylines){0, NULL, NULL};
+    cv[1] = 3;
+    PASSES(&d);
+}
+
+/* ---- 9. discontinuity polylines -------------------------------------------------------- */
+
+TEST(validate_polyline_too_short) {
+    int32_t st[2];
+    const int32_t one[1] = {0}, two[2] = {0, 2};
+    tc_mesh_desc d = square();
+    d.c0 = line(st, one, 1);
+    FAILS(&d, "discontinuities.c0[0]", "at least 2 vertices");
+    d.c0 = line(st, two, 2);
+    PASSES(&d);
+}
+
+TEST(validate_polyline_repeats_vertex) {
+    int32_t st[2];
+    const int32_t rep[3] = {0, 2, 2}, ok[2] = {0, 2};
+    tc_mesh_desc d = square();
+    d.cm1 = line(st, rep, 3);
+    FAILS(&d, "discontinuities.c-1[0][1]", "segment [2, 2]", "repeats a vertex");
+    d.cm1 = line(st, ok, 2);
+    PASSES(&d);
+}
+
+TEST(validate_polyline_vertex_range) {
+    int32_t st[2], verts[2] = {0, 9};
+    tc_mesh_desc d = square();
+    d.c0 = line(st, verts, 2);
+    FAILS(&d, "discontinuities.c0[0][1]", "index 9", "4 vertices");
+    verts[0] = -2;
+    FAILS(&d, "discontinuities.c0[0][0]", "index -2", "4 vertices");
+    verts[0] = 0, verts[1] = 2;
+    PASSES(&d);
+}
+
+TEST(validate_polyline_not_an_edge) {
+    int32_t st[2], verts[3] = {2, 1, 3}; /* (1, 3) is the other diagonal */
+    tc_mesh_desc d = square();
+    d.cm1 = line(st, verts, 3);
+    FAILS(&d, "discontinuities.c-1[0][1]", "segment [1, 3]", "not an edge");
+    verts[2] = 0;
+    PASSES(&d);
+}
+
+TEST(validate_edge_flagged_c0_and_cm1) {
+    int32_t st0[2], st1[2];
+    const int32_t a[2] = {0, 2}, b[2] = {2, 0};
+    tc_mesh_desc d = square();
+    d.c0 = line(st0, a, 2);
+    d.cm1 = line(st1, b, 2);
+    FAILS(&d, "discontinuities.c-1[0][0]", "edge [2, 0]", "both c0 and c-1", "discontinuities.c0[0]");
+    d.cm1 = (tc_polylines){0, NULL, NULL};
+    PASSES(&d);
+}
+
+/* ---- 10. normals and gradients --------------------------------------------------------- */
+
+TEST(validate_normal_points_down) {
+    double n[12] = {0, 0, 1, 0, 0, -1, 0, 0, 1, 0, 0, 1};
+    tc_mesh_desc d = square();
+    d.normals = n;
+    FAILS(&d, "normals[1]", "N.z = -1", "> 0");
+    n[5] = 0;
+    FAILS(&d, "normals[1]", "N.z = 0", "> 0");
+    n[5] = 1;
+    PASSES(&d);
+    double n2[24] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0.5, 0, -0.5, 0, 0, 1, 0, 0, 1};
+    double v2[8] = {1, 1, 2, 2, 3, 3, 4, 4};
+    d.nchan = 2, d.values = v2, d.normals = n2;
+    FAILS(&d, "normals[2][1]", "N.z = -0.5");
+    n2[17] = 0.5;
+    PASSES(&d);
+}
+
+TEST(validate_normal_too_horizontal) {
+    double n[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 1, 0, 1e-320}; /* -nx/nz overflows */
+    tc_mesh_desc d = square();
+    d.normals = n;
+    FAILS(&d, "normals[3]", "horizontal");
+    n[11] = 1e-3;
+    PASSES(&d);
+}
+
+TEST(validate_gradients_and_normals) {
+    const double g[8] = {0}, n[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    tc_mesh_desc d = square();
+    d.gradients = g, d.normals = n;
+    FAILS(&d, "normals", "either gradients or normals");
+    d.gradients = NULL;
+    PASSES(&d);
+    d.gradients = g, d.normals = NULL;
+    PASSES(&d);
+}
+
+/* ---- 11-13. per-corner data and midpoints ---------------------------------------------- */
+
+TEST(validate_corner_values_triangle) {
+    int32_t tri[2] = {2, 1};
+    const double cv[6] = {1, 3, 4, 1, 3, 4};
+    tc_mesh_desc d = square();
+    d.ncorner_values = 1, d.corner_values_tri = tri, d.corner_values = cv;
+    FAILS(&d, "corner_values[0].triangle", "index 2", "2 triangles");
+    tri[0] = -1;
+    FAILS(&d, "corner_values[0].triangle", "index -1", "2 triangles");
+    tri[0] = 1, d.ncorner_values = 2;
+    FAILS(&d, "corner_values[1].triangle", "triangle 1 already has corner values (corner_values[0])");
+    d.ncorner_values = 1;
+    PASSES(&d);
+}
+
+TEST(validate_corner_gradients_triangle) {
+    int32_t tri = 5;
+    const double cg[6] = {0};
+    tc_mesh_desc d = square();
+    d.ncorner_gradients = 1, d.corner_gradients_tri = &tri, d.corner_gradients = cg;
+    FAILS(&d, "corner_gradients[0].triangle", "index 5", "2 triangles");
+    tri = -3;
+    FAILS(&d, "corner_gradients[0].triangle", "index -3", "2 triangles");
+    tri = 1;
+    PASSES(&d);
+}
+
+TEST(validate_midpoint_edge) {
+    int32_t edge[2] = {0, 7};
+    const double z = 2;
+    tc_mesh_desc d = square();
+    d.nmidpoints = 1, d.midpoint_edge = edge, d.midpoint_values = &z;
+    FAILS(&d, "midpoints[0].edge", "[0, 7]", "out of range", "4 vertices");
+    edge[0] = -1, edge[1] = 2;
+    FAILS(&d, "midpoints[0].edge", "[-1, 2]", "out of range");
+    edge[0] = 1, edge[1] = 3;
+    FAILS(&d, "midpoints[0].edge", "[1, 3] is not an edge");
+    edge[0] = 3, edge[1] = 3;
+    FAILS(&d, "midpoints[0].edge", "[3, 3] is not an edge");
+    edge[0] = 1, edge[1] = 2;
+    PASSES(&d);
+}
+
+TEST(validate_midpoint_triangle) {
+    const int32_t edge[2] = {0, 1};
+    int32_t side = 1; /* triangle 1 = (0, 2, 3) has no edge (0, 1) */
+    const double z = 1.5;
+    tc_mesh_desc d = square();
+    d.nmidpoints = 1, d.midpoint_edge = edge, d.midpoint_values = &z, d.midpoint_tri = &side;
+    FAILS(&d, "midpoints[0].triangle", "triangle 1 does not have edge [0, 1]");
+    side = 2;
+    FAILS(&d, "midpoints[0].triangle", "triangle 2 does not have edge [0, 1]");
+    side = 0;
+    PASSES(&d);
+}
+
+TEST(validate_midpoint_side_twice) {
+    const int32_t edge[4] = {0, 2, 2, 0};
+    int32_t side[2] = {-1, 1}; /* both sides, then side 1 again */
+    const double z[2] = {2, 2.5};
+    tc_mesh_desc d = square();
+    d.nmidpoints = 2, d.midpoint_edge = edge, d.midpoint_values = z, d.midpoint_tri = side;
+    FAILS(&d, "midpoints[1]", "already has a sample (midpoints[0])");
+    side[0] = 0, side[1] = 0;
+    FAILS(&d, "midpoints[1]", "already has a sample (midpoints[0])");
+    side[1] = 1; /* one sample per side: a jump in the samples is allowed */
+    PASSES(&d);
+}
+
+/* ---- 14. unused vertex ----------------------------------------------------------------- */
+
+TEST(validate_unused_vertex_warns) {
+    const double xy[10] = {0, 0, 1, 0, 1, 1, 0, 1, 5, 5};
+    const double v[5] = {1, 2, 3, 4, 5};
+    tc_mesh_desc d = square();
+    d.nverts = 5, d.xy = xy, d.values = v;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    CHECK(m != NULL);
+    CHECK(dg.errors == 0 && dg.warnings == 1 && dg.count == 1);
+    if (dg.count) {
+        CHECK(dg.items[0].severity == TC_SEV_WARNING);
+        CHECK_MSG(!strcmp(dg.items[0].path, "vertices[4]"), "path '%s'", dg.items[0].path);
+        CHECK_STR_CONTAINS(dg.items[0].message, "vertex 4");
+        CHECK_STR_CONTAINS(dg.items[0].message, "no triangle");
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+    d.nverts = 4; /* without the stray vertex: no warning */
+    PASSES(&d);
+}
+
+/* ---- 15. errors of tc_recon_new -------------------------------------------------------- */
+
+TEST(validate_recon_tangents_given_missing) {
+    const double g[8] = {0.5, 0, 0.5, 0, 0.5, 0, 0.5, 0};
+    uint8_t mask[4] = {1, 1, 1, 0}; /* vertex 3: corner 2 of triangle 1 */
+    tc_mesh_desc d = square();
+    d.gradients = g, d.gradients_mask = mask;
+    tc_options given = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_CORRECTED);
+    RECON_FAILS(&d, given, "triangles[1]", "corner 2", "vertex 3", "no gradient or normal");
+    tc_diags dg;
+    tc_diags_init(&dg);
+    RECON_PASSES(&d, opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_AUTO, TC_WEDGES_CORRECTED), &dg);
+    mask[3] = 1;
+    RECON_PASSES(&d, given, &dg);
+    CHECK(dg.count == 0);
+    tc_diags_free(&dg);
+}
+
+/* Midpoint samples on four of the five edges: (2, 3) has none. */
+TEST(validate_recon_tangents_midpoints_missing) {
+    const int32_t edge[10] = {0, 1, 1, 2, 2, 0, 3, 0, 2, 3};
+    const double z[5] = {1.5, 2.5, 2, 2.5, 3.5};
+    tc_mesh_desc d = square();
+    d.nmidpoints = 4, d.midpoint_edge = edge, d.midpoint_values = z;
+    tc_options mid = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_MIDPOINTS, TC_WEDGES_CORRECTED);
+    RECON_FAILS(&d, mid, "midpoints", "edge [2, 3]", "no midpoint sample");
+    tc_diags dg;
+    tc_diags_init(&dg);
+    d.nmidpoints = 5;
+    RECON_PASSES(&d, mid, &dg);
+    CHECK(dg.count == 0);
+    tc_diags_free(&dg);
+}
+
+TEST(validate_recon_linear4_missing_midpoints_warns) {
+    const int32_t edge[10] = {0, 1, 1, 2, 2, 0, 3, 0, 2, 3};
+    const double z[5] = {1.5, 2.5, 2, 2.5, 3.5};
+    tc_mesh_desc d = square();
+    d.nmidpoints = 4, d.midpoint_edge = edge, d.midpoint_values = z;
+    tc_options lin4 = opts(TC_METHOD_LINEAR4, TC_TANGENTS_AUTO, TC_WEDGES_CORRECTED);
+    tc_diags dg;
+    tc_diags_init(&dg);
+    RECON_PASSES(&d, lin4, &dg);
+    CHECK(dg.errors == 0 && dg.warnings == 1 && dg.count == 1);
+    if (dg.count) {
+        CHECK(dg.items[0].severity == TC_SEV_WARNING);
+        CHECK_MSG(!strcmp(dg.items[0].path, "midpoints"), "path '%s'", dg.items[0].path);
+        CHECK_STR_CONTAINS(dg.items[0].message, "1 triangle edge sides");
+        CHECK_STR_CONTAINS(dg.items[0].message, "no midpoint sample");
+    }
+    tc_diags_clear(&dg);
+    d.nmidpoints = 5;
+    RECON_PASSES(&d, lin4, &dg);
+    CHECK(dg.count == 0 && dg.warnings == 0);
+    tc_diags_free(&dg);
+}
+
+/* ---- 16. many errors ------------------------------------------------------------------- */
+
+TEST(validate_many_errors_bounded) {
+    int32_t tri[300];
+    for (int t = 0; t < 100; t++) tri[3 * t] = 0, tri[3 * t + 1] = 1, tri[3 * t + 2] = 4 + t;
+    tc_mesh_desc d = square();
+    d.ntris = 100, d.tris = tri;
+    tc_mesh *m = (tc_mesh *)&m;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    CHECK(tc_mesh_new(&d, &m, &dg) == TC_EINVAL);
+    CHECK(m == NULL);
+    CHECK_MSG(dg.errors == 100 && dg.warnings == 0, "%d errors, %d warnings", dg.errors, dg.warnings);
+    CHECK_MSG(dg.count == TC_DIAGS_KEEP, "%d findings kept", dg.count);
+    for (int i = 0; i < dg.count && i < TC_DIAGS_KEEP; i++) {
+        char path[48], idx[24];
+        snprintf(path, sizeof path, "triangles[%d][2]", i);
+        snprintf(idx, sizeof idx, "index %d ", 4 + i);
+        CHECK_MSG(!strcmp(dg.items[i].path, path), "item %d path '%s'", i, dg.items[i].path);
+        CHECK_STR_CONTAINS(dg.items[i].message, idx);
+    }
+    tc_diags_free(&dg);
+    CHECK(tc_mesh_new(&d, &m, NULL) == TC_EINVAL && m == NULL); /* diags are optional */
+}
+
+/* ---- 17. wedges "literal": Figure 6's Project singular --------------------------------- */
+
+/* A 2x2 grid of cells over [-1,1]^2, centre vertex 4. The line y = 0 through 4
+ * is C-1 on its left half (3-4) and C0 on its right half (4-5), so 4 is a C-1
+ * vertex with exactly two collinear delimiters: two 180-degree wedges, upper and
+ * lower, coupled across 4-5. Given tangent planes: gradient g_up on every corner
+ * of the upper triangles, g_lo on the lower ones.
+ *
+ * Literal step 4 for the upper wedge (side A = the C0 edge to +x with the coupled
+ * plane c = Avg(g_up, g_lo), side B = the C-1 edge to -x with its own plane a)
+ * projects N = (-a, 1) onto the plane containing D = (-2, 0, -(a_x + c_x)):
+ * P_z = 1 + (a_x^2 - c_x^2) / (4 + (a_x + c_x)^2), which is 0 where
+ * a_x (a_x + c_x) = -2 (the paper's 1 + a s = 0) and negative beyond. With
+ * a = (1, 10) and g_lo = (-10, 0), the averaged c_x is about -4.5 (the steep
+ * cross slope of a gives it little weight): a_x (a_x + c_x) ~ -3.5, past the
+ * singular point. With a = (1, 0), c_x ~ -0.36 and nothing is singular. */
+TEST(validate_literal_project_singular) {
+    const double xy[18] = {-1, -1, 0, -1, 1, -1, -1, 0, 0, 0, 1, 0, -1, 1, 0, 1, 1, 1};
+    const int32_t tri[24] = {0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7};
+    const double v[9] = {1, 1.2, 1.4, 1.1, 1.3, 1.5, 1.2, 1.4, 1.6};
+    const int32_t cg_tri[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    const int32_t cm1v[2] = {3, 4}, c0v[2] = {4, 5};
+    int32_t st0[2], st1[2];
+    double cg[8][3][2];
+    double up_y = 10;
+    for (int t = 0; t < 8; t++)
+        for (int k = 0; k < 3; k++) {
+            int up = t >= 4; /* triangles 4..7 are the upper cells */
+            cg[t][k][0] = up ? 1 : -10;
+            cg[t][k][1] = up ? up_y : 0;
+        }
+    tc_mesh_desc d = square();
+    d.nverts = 9, d.xy = xy, d.ntris = 8, d.tris = tri, d.values = v;
+    d.ncorner_gradients = 8, d.corner_gradients_tri = cg_tri, d.corner_gradients = &cg[0][0][0];
+    d.cm1 = line(st1, cm1v, 2);
+    d.c0 = line(st0, c0v, 2);
+    tc_options lit = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_LITERAL);
+    RECON_FAILS(&d, lit, "vertices[4]", "vertex 4", "Project is singular", "corrected");
+    tc_diags dg;
+    tc_diags_init(&dg);
+    RECON_PASSES(&d, opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_CORRECTED), &dg);
+    for (int t = 4; t < 8; t++)
+        for (int k = 0; k < 3; k++) cg[t][k][1] = 0;
+    RECON_PASSES(&d, lit, &dg);
+    CHECK(dg.count == 0);
+    tc_diags_free(&dg);
+}
+
+/* cross_boundary "salesin" with wedges "literal": on edge (0, 1) both corners
+ * have slope 1 along the edge but equal values, so the control polygon's middle
+ * leg falls (rise -2 over length 1) against the averaged plane's slope +1; the
+ * paper's Project of that normal onto the leg turns past vertical. */
+TEST(validate_salesin_literal_project_singular) {
+    const double g[8] = {1, 0, 1, 0, 1, 0, 1, 0};
+    const double flat[4] = {1, 1, 1, 1}, linear[4] = {1, 2, 2, 1}; /* linear = 1 + x */
+    tc_mesh_desc d = square();
+    d.values = flat, d.gradients = g;
+    tc_options o = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_LITERAL);
+    o.cross_boundary = TC_CROSS_SALESIN;
+    RECON_FAILS(&d, o, "triangles[0]", "salesin", "singular on edge 0");
+    tc_diags dg;
+    tc_diags_init(&dg);
+    o.wedges = TC_WEDGES_CORRECTED;
+    RECON_PASSES(&d, o, &dg);
+    o.wedges = TC_WEDGES_LITERAL;
+    d.values = linear;
+    RECON_PASSES(&d, o, &dg);
+    CHECK(dg.count == 0);
+    tc_diags_free(&dg);
+}
+
+/* ---- each finding reported once; the rejections added after the first catalogue ---- */
+
+static int count_errors(const tc_mesh_desc *d, const tc_options *o) {
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = NULL;
+    tc_recon *r = NULL;
+    if (tc_mesh_new(d, &m, &dg) == TC_OK && o) tc_recon_new(m, o, &r, &dg);
+    int n = dg.errors;
+    tc_recon_free(r);
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+    return n;
+}
+
+TEST(validate_findings_reported_once) {
+    int32_t tri[6] = {0, 1, 2, 2, 1, 0};
+    tc_mesh_desc d = square();
+    d.tris = tri;
+    CHECK_MSG(count_errors(&d, NULL) == 1, "a repeated triangle: %d errors", count_errors(&d, NULL));
+    /* tangents "midpoints" with the interior edge (0, 2) unsampled: one error, not one per corner. */
+    const int32_t edge[8] = {0, 1, 1, 2, 2, 3, 3, 0};
+    const double z[4] = {1.5, 2.5, 3.5, 2.5};
+    d = square();
+    d.nmidpoints = 4, d.midpoint_edge = edge, d.midpoint_values = z;
+    tc_options mid = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_MIDPOINTS, TC_WEDGES_CORRECTED);
+    CHECK_MSG(count_errors(&d, &mid) == 1, "one missing interior edge: %d errors", count_errors(&d, &mid));
+}
+
+/* Finite but huge tangent planes overflow the ordinates: refused, naming the
+ * triangle, never Inf/NaN with TC_OK. */
+TEST(validate_steep_tangents_overflow_refused) {
+    const double g[8] = {1.7e308, 1.7e308, 0, 0, 0, 0, 0, 0};
+    tc_mesh_desc d = square();
+    d.gradients = g;
+    for (int c = 0; c < 3; c++) {
+        tc_options o = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_CORRECTED);
+        o.cross_boundary = (tc_cross)c;
+        RECON_FAILS(&d, o, "triangles[0]", "overflow");
+    }
+    const double gok[8] = {1e3, 1e3, 0, 0, 0, 0, 0, 0};
+    d.gradients = gok;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    RECON_PASSES(&d, opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_CORRECTED), &dg);
+    tc_diags_free(&dg);
+    const double big[4] = {1e301, 2, 3, 4}; /* values near the double range: refused for every method */
+    d = square();
+    d.values = big;
+    RECON_FAILS(&d, opts(TC_METHOD_LINEAR, TC_TANGENTS_AUTO, TC_WEDGES_CORRECTED), "triangles[0]", "overflow");
+}
+
+TEST(validate_corner_gradients_triangle_twice) {
+    const int32_t t[2] = {1, 1};
+    double g[12] = {0};
+    tc_mesh_desc d = square();
+    d.ncorner_gradients = 2, d.corner_gradients_tri = t, d.corner_gradients = g;
+    FAILS(&d, "corner_gradients[1].triangle", "triangle 1 already has corner gradients", "corner_gradients[0]");
+    d.ncorner_gradients = 1;
+    PASSES(&d);
+}
+
+TEST(validate_midpoint_side_negative) {
+    const int32_t edge[2] = {0, 1}, side[1] = {-5};
+    const double z[1] = {1.5};
+    tc_mesh_desc d = square();
+    d.nmidpoints = 1, d.midpoint_edge = edge, d.midpoint_tri = side, d.midpoint_values = z;
+    FAILS(&d, "midpoints[0].triangle", "-5", "out of range");
+    const int32_t both[1] = {-1};
+    d.midpoint_tri = both;
+    PASSES(&d);
+}
+
+TEST(validate_boundary_edge_flagged_c0_and_cm1) {
+    const int32_t seg[2] = {0, 1};
+    int32_t s0[2], s1[2];
+    tc_mesh_desc d = square();
+    d.c0 = line(s0, seg, 2);
+    d.cm1 = line(s1, seg, 2);
+    FAILS(&d, "discontinuities.c-1[0][0]", "flagged both c0 and c-1");
+    d.cm1.count = 0;
+    PASSES(&d);
+}
