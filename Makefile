@@ -8,37 +8,53 @@ SAN     ?=
 CFLAGS  ?=
 LDFLAGS ?=
 
-DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev python3-scipy python3-matplotlib
+DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev libmicrohttpd-dev libopenimageio-dev \
+                   openimageio-tools python3-openimageio python3-scipy python3-matplotlib curl
 
 CJSON_CFLAGS := $(shell pkg-config --cflags libcjson 2>/dev/null)
 CJSON_LIBS   := $(shell pkg-config --libs libcjson 2>/dev/null || echo -lcjson)
+MHD_CFLAGS   := $(shell pkg-config --cflags libmicrohttpd 2>/dev/null)
+MHD_LIBS     := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
+OIIO_CFLAGS  := $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
+OIIO_LIBS    := $(shell pkg-config --libs OpenImageIO 2>/dev/null || echo -lOpenImageIO -lOpenImageIO_Util)
+CXX     ?= c++
 
 WARN     := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wvla
 ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(WARN) \
              -Iinclude -Isrc $(CJSON_CFLAGS) -MMD -MP $(CFLAGS)
 ALL_LDFLAGS = $(SAN) $(LDFLAGS)
-LIBS     := $(CJSON_LIBS) -lm -lpthread
+LIBS     := $(CJSON_LIBS) -lm -lpthread -ldl
+# The one C++ file: OpenImageIO behind a C interface, built as a plugin that
+# src/image/load.c opens on the first encode (non-image work never loads it).
+ALL_CXXFLAGS = -std=c++17 $(OPT) -g $(SAN) -fPIC -Wall -Wextra -Werror -Iinclude -Isrc $(OIIO_CFLAGS) $(CXXFLAGS)
 
 CORE_SRC := $(wildcard src/core/*.c)
-IO_SRC   := $(wildcard src/io/*.c)
+IO_SRC   := $(wildcard src/io/*.c) $(wildcard src/image/*.c)
 CLI_SRC  := $(wildcard src/cli/*.c)
+SRV_SRC  := $(wildcard src/server/*.c)
 TEST_SRC := tests/main.c $(wildcard tests/unit/*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 LIB_OBJ  := $(call obj,$(CORE_SRC) $(IO_SRC))
 CLI_OBJ  := $(call obj,$(CLI_SRC))
+SRV_OBJ  := $(call obj,$(SRV_SRC))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
 .PHONY: all deps test test-unit test-peers check run clean
 .DEFAULT_GOAL := all
 
-all: $(BUILD)/libtocher.a $(BUILD)/tocher
+all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
 
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests
+$(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
+
+$(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h
+	@mkdir -p $(dir $@)
+	$(CXX) $(ALL_CXXFLAGS) -shared $< $(OIIO_LIBS) -o $@
 
 $(BUILD)/libtocher.a: $(LIB_OBJ)
 	@mkdir -p $(dir $@)
@@ -46,6 +62,9 @@ $(BUILD)/libtocher.a: $(LIB_OBJ)
 
 $(BUILD)/tocher: $(CLI_OBJ) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
+$(BUILD)/tocherd: $(SRV_OBJ) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(MHD_LIBS) $(LIBS) -o $@
 
 $(BUILD)/test_unit: $(TEST_OBJ) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
@@ -58,7 +77,7 @@ deps:
 	  echo "installing:$$missing"; \
 	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
 	  $$SUDO apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
 	fi
 
 test: deps
@@ -74,10 +93,17 @@ check: deps
 	  all build/san/test_unit
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 
-run: deps all
-	$(BUILD)/tocher eval api/examples/shadow-edges.json api/examples/points.json
+# Starts the daemon in the foreground on 127.0.0.1:8080 (TOCHER_LISTEN etc. override).
+run: deps
+	@$(MAKE) --no-print-directory all
+	@echo
+	@echo "Try, from any directory:"
+	@echo "  curl -s -H 'Content-Type: application/json' --data-binary @$(CURDIR)/api/examples/square-light.json http://127.0.0.1:8080/v1/ordinates"
+	@echo "  curl -s -H 'Content-Type: application/json' --data-binary @$(CURDIR)/api/examples/render.json http://127.0.0.1:8080/v1/render -o tile.png"
+	@echo
+	exec $(BUILD)/tocherd
 
 clean:
 	rm -rf build
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_OBJ:.o=.d)
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(SRV_OBJ:.o=.d) $(TEST_OBJ:.o=.d)

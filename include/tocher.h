@@ -31,7 +31,8 @@ typedef enum {
     TC_OK = 0,
     TC_EINVAL = 1, /* the input failed validation; the diagnostics say where */
     TC_ENOMEM = 2, /* an allocation failed */
-    TC_ELIMIT = 3  /* the input is larger than this build can index */
+    TC_ELIMIT = 3,  /* the input is larger than this build can index */
+    TC_ETIMEOUT = 4 /* the deadline passed before the work was done */
 } tc_status;
 
 typedef enum { TC_SEV_ERROR = 0, TC_SEV_WARNING = 1 } tc_severity;
@@ -222,6 +223,41 @@ void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y,
  * value 0 and gradient 0 and tri -1: never NaN. */
 void tc_eval_points(const tc_recon *r, const tc_locator *L, size_t n, const double *xy,
                     double *values, double *grads, int32_t *tri);
+
+/* ---- rendering tiles ------------------------------------------------------ */
+
+/* A world rectangle sampled by width x height pixels. Pixel (i, j), j = 0 the
+ * TOP row, has its centre at
+ *     x = x0 + (x1 - x0) * ((i + 0.5) / width)
+ *     y = y1 - (y1 - y0) * ((j + 0.5) / height)
+ * computed in exactly that order, so any program can reproduce it bit for bit. */
+typedef struct {
+    double x0, y0, x1, y1;
+    int32_t width, height;
+} tc_viewport;
+
+void tc_viewport_pixel_center(const tc_viewport *vp, int32_t i, int32_t j, double *x, double *y);
+
+typedef struct {
+    const double *background; /* [C] value of pixels outside the mesh; NULL = 0 */
+    int threads;              /* worker threads; <= 1 renders on the caller's thread */
+    double deadline_ms;       /* CLOCK_MONOTONIC milliseconds after which rendering
+                               * stops with TC_ETIMEOUT; 0 = none */
+} tc_render_options;
+
+/* Renders r over vp into values[height][width][C] (each pixel the double that
+ * tc_eval_points gives at its centre, rounded once to float) and, if owner is
+ * not NULL, owner[height][width] (the owning triangle, -1 outside the mesh).
+ * Visits only the triangles that overlap the tile. The result is the same bit
+ * for bit whatever the number of threads. o may be NULL. */
+int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, const tc_render_options *o,
+              float *values, int32_t *owner);
+
+/* Draws the mesh's edges over a rendered tile, one pixel wide, coloured by how
+ * the reconstruction treats them: C1 grey, C0 yellow, C-1 red, boundary white
+ * (3 channels; other channel counts get 0.35 / 0.7 / 1.0 / 1.0 in every channel),
+ * all times `scale`. */
+void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, float *values);
 
 #ifdef __cplusplus
 }

@@ -24,6 +24,14 @@ for t in tests/cli/*.sh; do
   [ -e "$t" ] || continue
   run_suite "$(basename "$t")" sh "$t" "$B/tocher"
 done
+for t in tests/endpoint/*.sh; do
+  [ -e "$t" ] || continue
+  run_suite "$(basename "$t")" sh "$t" "$B/tocherd"
+done
+for t in tests/endpoint/*.py; do
+  [ -e "$t" ] || continue
+  run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B"
+done
 for t in tests/peers/*.py; do
   [ -e "$t" ] || continue
   run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B/tocher"

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "io/api.h"
 #include "tocher.h"
@@ -16,6 +17,7 @@ static const char usage[] =
     "commands:\n"
     "  ordinates MESH.json [-o OUT]              Bezier ordinates of the reconstruction\n"
     "  eval MESH.json [POINTS.json] [-o OUT]     values (and gradients) at points\n"
+    "  render MESH.json [-o OUT]                 an image tile of the \"viewport\" in MESH.json\n"
     "  version                                   print the version\n"
     "  help                                      this text\n"
     "\n"
@@ -23,14 +25,21 @@ static const char usage[] =
     "vertices, triangles, values, optional gradients, midpoints, discontinuities,\n"
     "method, cross_boundary, wedges, tangents. For eval, \"points\" and\n"
     "\"with_gradients\" come from POINTS.json, or from MESH.json if it has them.\n"
-    "A file name of - reads standard input. Output is JSON on standard output\n"
-    "(or OUT); errors go to standard error, naming the JSON path at fault.\n"
+    "For render, the format is MESH.json's \"format\", else OUT's extension (.png\n"
+    ".exr .tif .tiff .raw), else png. A file name of - reads standard input.\n"
+    "Output goes to standard output (or OUT); errors go to standard error,\n"
+    "naming the JSON path at fault.\n"
+    "\n"
+    "options:\n"
+    "  -o OUT          write the output to OUT\n"
+    "  --threads N     render with N threads (default: all CPUs)\n"
+    "  --timings       add the \"timings\" object the daemon adds to JSON responses\n"
     "\n"
     "exit status: 0 ok, 2 usage, 3 invalid input, 4 file error, 5 internal error\n";
 
 typedef struct {
     const char *cmd, *files[2], *out;
-    int nfiles;
+    int nfiles, threads, timings;
 } args;
 
 /* Reads a whole file ("-" = stdin) into a malloc'd buffer. */
@@ -84,10 +93,32 @@ static int parse_args(int argc, char **argv, args *a) {
     a->cmd = argc > 1 ? argv[1] : "help";
     for (int i = 2; i < argc; i++) {
         if (!strcmp(argv[i], "-o") && i + 1 < argc) a->out = argv[++i];
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc && atoi(argv[i + 1]) > 0) a->threads = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--timings")) a->timings = 1;
         else if (a->nfiles < 2 && (argv[i][0] != '-' || !strcmp(argv[i], "-"))) a->files[a->nfiles++] = argv[i];
         else return -1;
     }
     return 0;
+}
+
+/* The "Accept" of the CLI: the output file's extension. */
+static const char *accept_of(const char *out) {
+    static const struct { const char *ext, *type; } map[] = {
+        {".png", "image/png"}, {".exr", "image/x-exr"}, {".tif", "image/tiff"},
+        {".tiff", "image/tiff"}, {".raw", "application/octet-stream"}};
+    const char *dot = out ? strrchr(out, '.') : NULL;
+    for (size_t i = 0; dot && i < sizeof map / sizeof map[0]; i++)
+        if (!strcmp(dot, map[i].ext)) return map[i].type;
+    return NULL;
+}
+
+static int dispatch(const args *a, const char *body, size_t len, const char *pts, size_t plen, tc_strbuf *out,
+                    tc_api_result *res) {
+    if (!strcmp(a->cmd, "ordinates")) return tc_api_ordinates(body, len, NULL, out, res);
+    if (!strcmp(a->cmd, "eval")) return tc_api_evaluate(body, len, pts, plen, NULL, out, res);
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    tc_api_limits lim = {0, 0, 0, 0, a->threads ? a->threads : (ncpu > 0 ? (int)ncpu : 1), 0};
+    return tc_api_render(body, len, accept_of(a->out), &lim, out, res);
 }
 
 static int run(const args *a) {
@@ -106,8 +137,8 @@ static int run(const args *a) {
     tc_strbuf out;
     tc_api_result_init(&res);
     tc_strbuf_init(&out);
-    int status = !strcmp(a->cmd, "ordinates") ? tc_api_ordinates(body, len, &out, &res)
-                                              : tc_api_evaluate(body, len, pts, plen, &out, &res);
+    int status = dispatch(a, body, len, pts, plen, &out, &res);
+    if (status == 200 && a->timings) tc_api_add_timings(&out, &res);
     report(a, &res);
     int rc = status == 200 ? write_out(a->out, &out) : status == 500 ? EXIT_INTERNAL : EXIT_INPUT;
     tc_strbuf_free(&out);
@@ -130,8 +161,8 @@ int main(int argc, char **argv) {
         printf("tocher %s\n", TC_VERSION);
         return 0;
     }
-    int known = !strcmp(a.cmd, "ordinates") || !strcmp(a.cmd, "eval");
-    if (!known || a.nfiles < 1 || (!strcmp(a.cmd, "ordinates") && a.nfiles > 1)) {
+    int known = !strcmp(a.cmd, "ordinates") || !strcmp(a.cmd, "eval") || !strcmp(a.cmd, "render");
+    if (!known || a.nfiles < 1 || (strcmp(a.cmd, "eval") && a.nfiles > 1)) {
         fprintf(stderr, "tocher: %s\n\n%s", known ? "missing or extra file arguments" : "unknown command", usage);
         return EXIT_USAGE;
     }

@@ -4,6 +4,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "core/locate.h"
 #include "core/mesh.h"
 
 /* ==== The ownership rule =====================================================
@@ -163,11 +164,7 @@ struct node {
     int32_t count;       /* leaf: slots [first, first + count); internal: 0 */
 };
 
-struct slot {
-    double x[3], y[3]; /* corners, counter-clockwise */
-    int32_t t;         /* the triangle's index in the mesh */
-    uint32_t left;     /* bit k: corner k < corner k+1, the triangle is left of edge k's frame */
-};
+#define slot tc_slot /* declared in locate.h, shared with the rasterizer */
 
 struct tc_locator {
     int32_t nnodes;
@@ -381,13 +378,13 @@ static int box_contains(const struct node *nd, double x, double y) {
     return x >= nd->lo[0] && x <= nd->hi[0] && y >= nd->lo[1] && y <= nd->hi[1];
 }
 
-enum { SLOT_OUT = 0, SLOT_TOUCH = 1, SLOT_OWN = 2 };
+enum { SLOT_OUT = TC_SLOT_OUT, SLOT_TOUCH = TC_SLOT_TOUCH, SLOT_OWN = TC_SLOT_OWN };
 
 /* SLOT_OWN if the triangle owns P by the strict rule, SLOT_TOUCH if it only
  * contains P in the closed sense (P on an edge whose tie goes elsewhere), else
  * SLOT_OUT. An edge with the triangle on its left admits val >= 0, one with the
  * triangle on its right admits val < 0 strictly and val == 0 only closed. */
-static int slot_test(const struct slot *s, double x, double y) {
+int tc__slot_test(const struct slot *s, double x, double y) {
     int touch = 0;
     for (int k = 0; k < 3; k++) {
         int j = k == 2 ? 0 : k + 1;
@@ -407,7 +404,7 @@ static int slot_test(const struct slot *s, double x, double y) {
 static int32_t leaf_test(const tc_locator *L, const struct node *leaf, double x, double y, int32_t *closed) {
     for (int32_t i = leaf->first; i < leaf->first + leaf->count; i++) {
         const struct slot *s = &L->slots[i];
-        int r = slot_test(s, x, y);
+        int r = tc__slot_test(s, x, y);
         if (r == SLOT_OWN) return s->t; /* unique in a valid mesh */
         if (r == SLOT_TOUCH && (*closed < 0 || s->t < *closed)) *closed = s->t;
     }
@@ -433,6 +430,32 @@ int32_t tc_locate(const tc_locator *L, double x, double y) {
             if (t >= 0) return t;
         }
         if (sp == 0) return closed;
+        n = stack[--sp];
+    }
+}
+
+/* Boxes meet when they overlap in both axes (closed). */
+static int box_meets(const struct node *nd, const double lo[2], const double hi[2]) {
+    return nd->lo[0] <= hi[0] && nd->hi[0] >= lo[0] && nd->lo[1] <= hi[1] && nd->hi[1] >= lo[1];
+}
+
+void tc__locator_query_box(const tc_locator *L, const double lo[2], const double hi[2],
+                           void (*fn)(void *ctx, const struct tc_slot *s), void *ctx) {
+    if (!L || L->nnodes == 0) return;
+    int32_t stack[STACK_MAX];
+    int sp = 0;
+    int32_t n = 0;
+    for (;;) { /* the same traversal as tc_locate, visiting every leaf that meets the box */
+        const struct node *nd = &L->nodes[n];
+        if (box_meets(nd, lo, hi)) {
+            if (nd->count == 0) {
+                stack[sp++] = nd->first;
+                n++;
+                continue;
+            }
+            for (int32_t i = nd->first; i < nd->first + nd->count; i++) fn(ctx, &L->slots[i]);
+        }
+        if (sp == 0) return;
         n = stack[--sp];
     }
 }

@@ -1,8 +1,10 @@
 /* api.c — request bytes -> io -> core -> response bytes, one function per
  * endpoint. The CLI and the daemon both call these, so their output is one. */
+#include <math.h>
 #include <stdlib.h>
 #include <time.h>
 
+#include "image/image.h"
 #include "io/api.h"
 #include "io/request.h"
 #include "io/response.h"
@@ -12,13 +14,15 @@ const char *const tc_phase_names[TC_NPHASES] = {"parse", "validate", "build", "e
 void tc_api_result_init(tc_api_result *res) {
     res->status = 200;
     res->second_doc = TC_DIAGS_KEEP;
+    res->triangles = res->pixels = 0;
+    res->content_type = "application/json";
     tc_diags_init(&res->diags);
     for (int i = 0; i < TC_NPHASES; i++) res->ms[i] = 0;
 }
 
 void tc_api_result_free(tc_api_result *res) { tc_diags_free(&res->diags); }
 
-static double now_ms(void) {
+double tc_api_now_ms(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
@@ -26,7 +30,7 @@ static double now_ms(void) {
 
 /* Adds the time since *t0 to phase p and restarts the clock. */
 static void lap(tc_api_result *res, int p, double *t0) {
-    double t = now_ms();
+    double t = tc_api_now_ms();
     res->ms[p] += t - *t0;
     *t0 = t;
 }
@@ -50,16 +54,35 @@ static void job_free(job *j) {
     tc_request_free(j->req);
 }
 
-static int job_build(job *j, const char *body, size_t len, unsigned expect, tc_api_result *res, double *t0) {
+/* A count over its limit: 413 naming the field. */
+static int over(tc_api_result *res, const char *field, int64_t n, int64_t max, const char *what) {
+    if (max <= 0 || n <= max) return 0;
+    tc_diags_add(&res->diags, TC_SEV_ERROR, field, "%lld %s; this server accepts at most %lld", (long long)n, what,
+                 (long long)max);
+    res->status = 413;
+    return 1;
+}
+
+static int within_limits(const tc_request *q, const tc_api_limits *lim, tc_api_result *res) {
+    if (!lim) return 1;
+    return !over(res, "vertices", q->desc.nverts, lim->max_vertices, "vertices") &&
+           !over(res, "triangles", q->desc.ntris, lim->max_triangles, "triangles") &&
+           !over(res, "points", (int64_t)q->npoints, lim->max_points, "points");
+}
+
+static int job_build(job *j, const char *body, size_t len, unsigned expect, const tc_api_limits *lim,
+                     tc_api_result *res, double *t0) {
     int rs = tc_request_parse(body, len, expect, &j->req, &res->diags);
     lap(res, TC_PHASE_PARSE, t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
+    if (!within_limits(j->req, lim, res)) return res->status;
     int st = tc_mesh_new(&j->req->desc, &j->mesh, &res->diags);
     lap(res, TC_PHASE_VALIDATE, t0);
     if (st != TC_OK) return res->status = status_of_core(st);
     st = tc_recon_new(j->mesh, &j->req->opt, &j->recon, &res->diags);
     lap(res, TC_PHASE_BUILD, t0);
     if (st != TC_OK) return res->status = status_of_core(st);
+    res->triangles = j->req->desc.ntris;
     return res->status = 200;
 }
 
@@ -76,10 +99,10 @@ static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
     return res->status = out->oom ? 500 : 200;
 }
 
-int tc_api_ordinates(const char *body, size_t len, tc_strbuf *out, tc_api_result *res) {
-    double t0 = now_ms();
+int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
+    double t0 = tc_api_now_ms();
     job j = {0};
-    if (job_build(&j, body, len, TC_REQ_MESH, res, &t0) != 200) {
+    if (job_build(&j, body, len, TC_REQ_MESH, lim, res, &t0) != 200) {
         job_free(&j);
         return res->status;
     }
@@ -112,17 +135,18 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b) {
     return st;
 }
 
-int tc_api_evaluate(const char *body, size_t len, const char *points, size_t plen, tc_strbuf *out,
-                    tc_api_result *res) {
-    double t0 = now_ms();
+int tc_api_evaluate(const char *body, size_t len, const char *points, size_t plen, const tc_api_limits *lim,
+                    tc_strbuf *out, tc_api_result *res) {
+    double t0 = tc_api_now_ms();
     job j = {0};
     tc_request *pts = NULL;
     unsigned expect = points ? TC_REQ_MESH : TC_REQ_MESH | TC_REQ_POINTS;
-    if (job_build(&j, body, len, expect, res, &t0) == 200 && points) {
+    if (job_build(&j, body, len, expect, lim, res, &t0) == 200 && points) {
         res->second_doc = res->diags.count;
         int rs = tc_request_parse(points, plen, TC_REQ_POINTS, &pts, &res->diags);
         lap(res, TC_PHASE_PARSE, &t0);
         if (rs != TC_REQ_OK) res->status = status_of_request(rs);
+        else if (!within_limits(pts, lim, res)) res->status = 413;
     }
     tc_strbuf b;
     tc_strbuf_init(&b);
@@ -141,24 +165,133 @@ int tc_api_evaluate(const char *body, size_t len, const char *points, size_t ple
     return st;
 }
 
+void tc_api_problem_write(tc_strbuf *out, int status, const char *type, const char *title, const tc_diags *d) {
+    const tc_diag *first = NULL;
+    for (int i = 0; i < d->count && !first; i++)
+        if (d->items[i].severity == TC_SEV_ERROR) first = &d->items[i];
+    tc_strbuf_puts(out, "{\"type\":\"/problems/");
+    tc_strbuf_puts(out, type);
+    tc_strbuf_puts(out, "\",\"title\":");
+    tc_strbuf_json_string(out, title);
+    tc_strbuf_printf(out, ",\"status\":%d,\"detail\":", status);
+    tc_strbuf_json_string(out, first ? first->message : title);
+    tc_strbuf_puts(out, ",\"path\":");
+    tc_strbuf_json_string(out, first ? first->path : "");
+    tc_strbuf_printf(out, ",\"error_count\":%d", d->errors); /* errors[] keeps the first few */
+    tc_json_diags(out, "errors", d, TC_SEV_ERROR);
+    tc_json_diags(out, "warnings", d, TC_SEV_WARNING);
+    tc_strbuf_puts(out, "}\n");
+}
+
 void tc_api_problem(tc_strbuf *out, const tc_api_result *res) {
     const char *type = "internal", *title = "Internal error";
     if (res->status == 400) type = "malformed-request", title = "Malformed request";
     if (res->status == 413) type = "too-large", title = "Request too large";
     if (res->status == 422) type = "invalid-mesh", title = "Invalid mesh";
-    const tc_diag *first = NULL;
-    for (int i = 0; i < res->diags.count && !first; i++)
-        if (res->diags.items[i].severity == TC_SEV_ERROR) first = &res->diags.items[i];
-    tc_strbuf_puts(out, "{\"type\":\"/problems/");
-    tc_strbuf_puts(out, type);
-    tc_strbuf_puts(out, "\",\"title\":");
-    tc_strbuf_json_string(out, title);
-    tc_strbuf_printf(out, ",\"status\":%d,\"detail\":", res->status);
-    tc_strbuf_json_string(out, first ? first->message : title);
-    tc_strbuf_puts(out, ",\"path\":");
-    tc_strbuf_json_string(out, first ? first->path : "");
-    tc_strbuf_printf(out, ",\"error_count\":%d", res->diags.errors); /* errors[] keeps the first few */
-    tc_json_diags(out, "errors", &res->diags, TC_SEV_ERROR);
-    tc_json_diags(out, "warnings", &res->diags, TC_SEV_WARNING);
-    tc_strbuf_puts(out, "}\n");
+    if (res->status == 503) type = "timeout", title = "Request took too long";
+    tc_api_problem_write(out, res->status, type, title, &res->diags);
+}
+
+void tc_api_add_timings(tc_strbuf *out, const tc_api_result *res) {
+    if (out->len < 2 || out->buf[out->len - 1] != '\n' || out->buf[out->len - 2] != '}') return;
+    out->len -= 2;
+    double total = 0;
+    tc_strbuf_puts(out, ",\"timings\":{");
+    for (int i = 0; i < TC_NPHASES; i++) {
+        tc_strbuf_printf(out, "\"%s\":%.3f,", tc_phase_names[i], res->ms[i]);
+        total += res->ms[i];
+    }
+    tc_strbuf_printf(out, "\"total\":%.3f}}\n", total);
+}
+
+/* The render's pixels: values, coverage (alpha) and owners, freed together. */
+typedef struct {
+    float *values, *alpha;
+    int32_t *owner;
+} tile;
+
+static void tile_free(tile *t) { free(t->values), free(t->alpha), free(t->owner); }
+
+static int format_of(const tc_request *q, const char *accept) {
+    int f = q->format >= 0 ? q->format : accept ? tc_img_format_from_accept(accept) : -1;
+    return f >= 0 ? f : TC_IMG_PNG;
+}
+
+/* Rasterizes the request's viewport into t; returns a core status. */
+static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
+    const tc_request *q = j->req;
+    const tc_viewport *vp = &q->viewport;
+    size_t np = (size_t)vp->width * vp->height, nc = (size_t)tc_mesh_channel_count(j->mesh);
+    tc_locator *L = NULL;
+    t->values = malloc(np * nc * sizeof *t->values);
+    t->alpha = malloc(np * sizeof *t->alpha);
+    t->owner = malloc(np * sizeof *t->owner);
+    int st = !t->values || !t->alpha || !t->owner ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
+    if (st == TC_OK) {
+        tc_render_options o = {q->has_background ? q->background : NULL, lim ? lim->render_threads : 1,
+                               lim ? lim->deadline_ms : 0};
+        st = tc_render(j->recon, L, vp, &o, t->values, t->owner);
+    }
+    tc_locator_free(L);
+    if (st != TC_OK) return st;
+    for (size_t p = 0; p < np; p++) t->alpha[p] = t->owner[p] >= 0 ? 1.0f : 0.0f;
+    if (q->overlay) /* PNG shows v * 2^exposure: scale the overlay so it shows as drawn */
+        tc_render_overlay(j->recon, vp, fmt == TC_IMG_PNG || fmt == TC_IMG_PNG16 ? pow(2, -q->exposure) : 1, t->values);
+    return TC_OK;
+}
+
+static int encode(const job *j, int fmt, const tile *t, tc_strbuf *out, tc_api_result *res) {
+    const tc_request *q = j->req;
+    int nc = tc_mesh_channel_count(j->mesh);
+    /* raw has no alpha; TIFF cannot mark alpha on 2 channels (3 samples read as RGB). */
+    int alpha = fmt != TC_IMG_RAW && !(fmt == TC_IMG_TIFF && nc == 2);
+    tc_img im = {q->viewport.width, q->viewport.height, nc, t->values, alpha ? t->alpha : NULL, q->exposure,
+                 q->linear};
+    unsigned char *bytes = NULL;
+    size_t n = 0;
+    char err[256];
+    if (tc_img_encode(&im, (tc_img_format)fmt, &bytes, &n, err, sizeof err) != 0) {
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "format", "%s", err);
+        return res->status = 500;
+    }
+    tc_strbuf_append(out, (const char *)bytes, n);
+    tc_img_free(bytes);
+    res->content_type = tc_img_mime((tc_img_format)fmt);
+    return res->status = out->oom ? 500 : 200;
+}
+
+/* PNG holds grey or RGB only: refuse other channel counts before any work. */
+static int check_format(const job *j, int fmt, tc_api_result *res) {
+    int nc = tc_mesh_channel_count(j->mesh);
+    if ((fmt == TC_IMG_PNG || fmt == TC_IMG_PNG16) && nc != 1 && nc != 3) {
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "format",
+                     "%s holds 1 or 3 channels; this mesh has %d (use exr, tiff or raw)", tc_img_format_name(fmt), nc);
+        return res->status = 422;
+    }
+    return 200;
+}
+
+int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
+                  tc_api_result *res) {
+    double t0 = tc_api_now_ms();
+    job j = {0};
+    tile t = {0};
+    if (job_build(&j, body, len, TC_REQ_MESH | TC_REQ_VIEWPORT, lim, res, &t0) == 200) {
+        int fmt = format_of(j.req, accept);
+        const tc_viewport *vp = &j.req->viewport;
+        int64_t np = (int64_t)vp->width * vp->height;
+        if (!over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") && check_format(&j, fmt, res) == 200) {
+            int st = rasterize(&j, lim, fmt, &t);
+            lap(res, TC_PHASE_EVALUATE, &t0);
+            res->pixels = st == TC_OK ? np : 0;
+            if (st == TC_ETIMEOUT)
+                tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while rendering");
+            res->status = st == TC_OK ? 200 : st == TC_ETIMEOUT ? 503 : st == TC_EINVAL ? 422 : 500;
+            if (st == TC_OK) encode(&j, fmt, &t, out, res);
+            lap(res, TC_PHASE_ENCODE, &t0);
+        }
+    }
+    tile_free(&t);
+    job_free(&j);
+    return res->status;
 }

@@ -4,33 +4,62 @@
 #define TC_IO_API_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "io/strbuf.h"
 #include "tocher.h"
 
 enum { TC_PHASE_PARSE, TC_PHASE_VALIDATE, TC_PHASE_BUILD, TC_PHASE_EVALUATE, TC_PHASE_ENCODE, TC_NPHASES };
+/* "parse", "validate", "build", "evaluate", "encode" (rendering counts as evaluate). */
 extern const char *const tc_phase_names[TC_NPHASES];
 
+/* What one request may ask for; 0 means no limit. */
 typedef struct {
-    int status;             /* 200, 400 (malformed), 422 (invalid mesh), 500 (out of memory) */
+    int64_t max_vertices, max_triangles, max_points, max_pixels;
+    int render_threads;  /* worker threads for one render (>= 1) */
+    double deadline_ms;  /* CLOCK_MONOTONIC time (tc_api_now_ms) after which work stops; 0 = none */
+} tc_api_limits;
+
+typedef struct {
+    int status;             /* 200, 400 malformed, 413 over a limit, 422 invalid mesh,
+                             * 500 internal (out of memory, image library), 503 past the deadline */
     tc_diags diags;         /* errors (status != 200) and warnings */
     int second_doc;         /* diags.items[second_doc ..] are about the points document */
     double ms[TC_NPHASES];  /* wall time of each phase in milliseconds */
+    int64_t triangles;      /* triangles reconstructed */
+    int64_t pixels;         /* pixels rendered */
+    const char *content_type; /* of the 200 body: "application/json" or an image type */
 } tc_api_result;
 
+double tc_api_now_ms(void);
 void tc_api_result_init(tc_api_result *res);
 void tc_api_result_free(tc_api_result *res);
 
-/* POST /v1/ordinates. On 200 `out` holds the JSON response object; else it is
- * untouched and res->diags says why (tc_api_problem renders it). */
-int tc_api_ordinates(const char *body, size_t len, tc_strbuf *out, tc_api_result *res);
+/* POST /v1/ordinates. On 200 `out` holds the JSON response object; else `out`
+ * is untouched and res->diags says why (tc_api_problem renders it). lim may be NULL. */
+int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res);
 
 /* POST /v1/evaluate: mesh and "points" in one body, or the points (and
  * "with_gradients") in a second document when points != NULL. */
-int tc_api_evaluate(const char *body, size_t len, const char *points, size_t plen, tc_strbuf *out,
-                    tc_api_result *res);
+int tc_api_evaluate(const char *body, size_t len, const char *points, size_t plen, const tc_api_limits *lim,
+                    tc_strbuf *out, tc_api_result *res);
+
+/* POST /v1/render: mesh + "viewport" {x0,y0,x1,y1,width,height} + "format"
+ * (else from the Accept header, else png) + "exposure", "overlay", "background",
+ * "linear". On 200 `out` holds the encoded image, res->content_type its type. */
+int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
+                  tc_api_result *res);
 
 /* An application/problem+json body for a failed result. */
 void tc_api_problem(tc_strbuf *out, const tc_api_result *res);
+
+/* The problem document itself, for any status: "type": "/problems/<type>",
+ * title, status, detail and path (of d's first error), error_count, errors[],
+ * warnings[]. The daemon uses it for the errors it finds on its own. */
+void tc_api_problem_write(tc_strbuf *out, int status, const char *type, const char *title, const tc_diags *d);
+
+/* Adds "timings":{"parse":ms,...,"total":ms} as the last member of the JSON
+ * object in `out` (which must end with "}\n"). */
+void tc_api_add_timings(tc_strbuf *out, const tc_api_result *res);
 
 #endif

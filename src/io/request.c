@@ -9,6 +9,7 @@
 
 #include <cJSON.h>
 
+#include "image/image.h"
 #include "io/request.h"
 
 #if defined(__GNUC__)
@@ -312,7 +313,8 @@ typedef void (*field_fn)(reader *rd, const cJSON *v, const jpath *p);
 enum {
     ROLE_MESH = 1,      /* vertices, triangles, values: all or none */
     ROLE_MESH_DATA = 2, /* meaningless without a mesh: makes the mesh required */
-    ROLE_POINTS = 4     /* required when TC_REQ_POINTS is expected */
+    ROLE_POINTS = 4,    /* required when TC_REQ_POINTS is expected */
+    ROLE_VIEWPORT = 8   /* required when TC_REQ_VIEWPORT is expected */
 };
 
 typedef struct {
@@ -822,12 +824,103 @@ static void parse_tangents(reader *rd, const cJSON *v, const jpath *p) {
         rd->r->opt.tangents = (tc_tangents)x;
 }
 
-static void parse_with_gradients(reader *rd, const cJSON *v, const jpath *p) {
+static int read_bool(reader *rd, const cJSON *v, const jpath *p, int *out) {
     if (!is_type(v, cJSON_True) && !is_type(v, cJSON_False)) {
         shape_error(rd, p, "expected true or false, got %s", kind_of(v));
+        return -1;
+    }
+    *out = is_type(v, cJSON_True);
+    return 0;
+}
+
+static void parse_with_gradients(reader *rd, const cJSON *v, const jpath *p) {
+    read_bool(rd, v, p, &rd->r->with_gradients);
+}
+
+/* ---- fields: rendering ------------------------------------------------------------- */
+
+static const field viewport_fields[] = {
+    {"x0", NULL, 0, "x"}, {"y0", NULL, 0, "y"}, {"x1", NULL, 0, "x"},
+    {"y1", NULL, 0, "y"}, {"width", NULL, 0, "pixels"}, {"height", NULL, 0, "pixels"},
+};
+#define NVIEWPORT ((int)(sizeof viewport_fields / sizeof viewport_fields[0]))
+
+/* One required member of the viewport: a number, or a pixel count 1 .. 2^20. */
+static int viewport_member(reader *rd, const cJSON *v, const jpath *obj, int i, double *num, int32_t *count) {
+    jpath p = key_path(obj, viewport_fields[i].name);
+    if (!v) {
+        shape_error(rd, &p, "missing required field '%s'", viewport_fields[i].name);
+        return -1;
+    }
+    if (!count) return read_number(rd, v, &p, num);
+    if (read_int(rd, v, &p, count)) return -1;
+    if (*count < 1 || *count > (1 << 20)) {
+        value_error(rd, &p, "%s must be 1 to %d pixels, got %d", viewport_fields[i].name, 1 << 20, (int)*count);
+        return -1;
+    }
+    return 0;
+}
+
+static void parse_viewport(reader *rd, const cJSON *v, const jpath *p) {
+    const cJSON *found[NVIEWPORT];
+    if (read_members(rd, v, p, viewport_fields, NVIEWPORT, found, "an object {x0, y0, x1, y1, width, height}"))
+        return;
+    tc_viewport *vp = &rd->r->viewport;
+    double *num[4] = {&vp->x0, &vp->y0, &vp->x1, &vp->y1};
+    int bad = 0;
+    for (int i = 0; i < 4; i++) bad |= viewport_member(rd, found[i], p, i, num[i], NULL) != 0;
+    bad |= viewport_member(rd, found[4], p, 4, NULL, &vp->width) != 0;
+    bad |= viewport_member(rd, found[5], p, 5, NULL, &vp->height) != 0;
+    if (bad) return;
+    for (int axis = 0; axis < 2; axis++) {
+        double lo = axis ? vp->y0 : vp->x0, hi = axis ? vp->y1 : vp->x1;
+        jpath ph = key_path(p, axis ? "y1" : "x1");
+        if (!(hi > lo)) {
+            value_error(rd, &ph, "%s = %g must be greater than %s = %g", axis ? "y1" : "x1", hi, axis ? "y0" : "x0", lo);
+            bad = 1;
+        }
+    }
+    rd->r->has_viewport = !bad;
+}
+
+static void parse_format(reader *rd, const cJSON *v, const jpath *p) {
+    tc_img_format f;
+    if (!is_type(v, cJSON_String) || !v->valuestring) {
+        shape_error(rd, p, "expected a string (png, png16, exr, exr-half, tiff, raw), got %s", kind_of(v));
         return;
     }
-    rd->r->with_gradients = is_type(v, cJSON_True);
+    if (tc_img_format_parse(v->valuestring, &f)) {
+        value_error(rd, p, "unknown format '%.40s'; expected one of: png, png16, exr, exr-half, tiff, raw",
+                    v->valuestring);
+        return;
+    }
+    rd->r->format = (int)f;
+}
+
+static void parse_exposure(reader *rd, const cJSON *v, const jpath *p) {
+    double e;
+    if (read_number(rd, v, p, &e)) return;
+    if (fabs(e) > 64) {
+        value_error(rd, p, "exposure %g stops is out of range (-64 to 64)", e);
+        return;
+    }
+    rd->r->exposure = e;
+}
+
+static void parse_overlay(reader *rd, const cJSON *v, const jpath *p) { read_bool(rd, v, p, &rd->r->overlay); }
+static void parse_linear(reader *rd, const cJSON *v, const jpath *p) { read_bool(rd, v, p, &rd->r->linear); }
+
+/* A number (every channel) or one number per channel. */
+static void parse_background(reader *rd, const cJSON *v, const jpath *p) {
+    if (!rd->nchan) return; /* values unreadable: already reported */
+    if (!is_type(v, cJSON_Array)) {
+        double z;
+        if (read_number(rd, v, p, &z)) return;
+        for (int ch = 0; ch < rd->nchan; ch++) rd->r->background[ch] = z;
+    } else if (read_numbers(rd, v, p, rd->nchan, rd->r->background, "(one per channel)")) {
+        return;
+    }
+    rd->r->has_background = 1;
 }
 
 /* ---- the request ------------------------------------------------------------------- */
@@ -852,12 +945,14 @@ static const field top_fields[] = {
     {"tangents", parse_tangents, 0, ""},
     {"points", parse_points, ROLE_POINTS, "[[x, y], ...]"},
     {"with_gradients", parse_with_gradients, 0, ""},
+    {"viewport", parse_viewport, ROLE_VIEWPORT, "{x0, y0, x1, y1, width, height}"},
+    {"format", parse_format, 0, ""},
+    {"exposure", parse_exposure, 0, ""},
+    {"overlay", parse_overlay, 0, ""},
+    {"linear", parse_linear, 0, ""},
+    {"background", parse_background, 0, ""},
     /* accepted now, read by the endpoints that add them */
     {"quads", NULL, 0, ""},
-    {"viewport", NULL, 0, ""},
-    {"format", NULL, 0, ""},
-    {"exposure", NULL, 0, ""},
-    {"overlay", NULL, 0, ""},
     {"reference", NULL, 0, ""},
     {"methods", NULL, 0, ""},
 };
@@ -872,7 +967,8 @@ static void check_required(reader *rd, const cJSON *const *found) {
     for (int i = 0; i < NTOP; i++) {
         unsigned role = top_fields[i].role;
         int required = ((role & ROLE_MESH) && want_mesh) ||
-                       ((role & ROLE_POINTS) && (rd->expect & TC_REQ_POINTS));
+                       ((role & ROLE_POINTS) && (rd->expect & TC_REQ_POINTS)) ||
+                       ((role & ROLE_VIEWPORT) && (rd->expect & TC_REQ_VIEWPORT));
         if (required && !found[i]) {
             jpath p = key_path(NULL, top_fields[i].name);
             shape_error(rd, &p, "missing required field '%s': expected %s", top_fields[i].name,
@@ -966,6 +1062,7 @@ int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request *
         return TC_REQ_NOMEM;
     }
     tc_options_default(&r->opt);
+    r->format = -1;
     rd.r = r;
     cJSON *root = parse_json(&rd, json, len);
     if (root) {

@@ -8,7 +8,7 @@
 #include "tocher.h"
 
 /* Which parts a caller expects (bit flags for tc_request_parse's `expect`). */
-enum { TC_REQ_MESH = 1, TC_REQ_POINTS = 2 };
+enum { TC_REQ_MESH = 1, TC_REQ_POINTS = 2, TC_REQ_VIEWPORT = 4 };
 
 typedef enum {
     TC_REQ_OK = 0,
@@ -28,6 +28,16 @@ typedef struct tc_request {
     size_t npoints;     /* "points": [[x,y],...] */
     double *points;     /* [npoints][2], NULL when npoints == 0 */
     int with_gradients; /* "with_gradients": true asks /v1/evaluate for gradients */
+
+    /* /v1/render */
+    int has_viewport;
+    tc_viewport viewport; /* "viewport": {x0, y0, x1, y1, width, height} */
+    int format;           /* "format" as a tc_img_format, or -1 when absent */
+    double exposure;      /* "exposure": stops, for PNG (default 0) */
+    int overlay;          /* "overlay": draw the mesh edges */
+    int linear;           /* "linear": PNG without the sRGB transfer */
+    int has_background;
+    double background[TC_MAX_CHANNELS]; /* "background": value of pixels outside the mesh */
 
     /* private: the allocations behind desc and points, freed by tc_request_free */
     void *owned_[TC_REQ_OWNED_MAX];

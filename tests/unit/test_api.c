@@ -163,13 +163,13 @@ static void check_points_bits(const char *file, int line, const numlist *nl, siz
 static int run_ordinates(const char *body, tc_strbuf *out, tc_api_result *res) {
     tc_api_result_init(res);
     tc_strbuf_init(out);
-    return tc_api_ordinates(body, strlen(body), out, res);
+    return tc_api_ordinates(body, strlen(body), NULL, out, res);
 }
 
 static int run_evaluate(const char *body, const char *points, tc_strbuf *out, tc_api_result *res) {
     tc_api_result_init(res);
     tc_strbuf_init(out);
-    return tc_api_evaluate(body, strlen(body), points, points ? strlen(points) : 0, out, res);
+    return tc_api_evaluate(body, strlen(body), points, points ? strlen(points) : 0, NULL, out, res);
 }
 
 static void done(tc_strbuf *out, tc_api_result *res, cJSON *root) {
@@ -267,7 +267,7 @@ TEST(api_ordinates_square_light) {
     tc_strbuf out;
     tc_api_result_init(&res);
     tc_strbuf_init(&out);
-    int st = tc_api_ordinates(body, len, &out, &res);
+    int st = tc_api_ordinates(body, len, NULL, &out, &res);
     CHECK(st == 200 && res.status == 200);
     CHECK(res.diags.errors == 0);
     CHECK(out.len > 0 && out.buf[out.len - 1] == '\n');
@@ -299,7 +299,7 @@ TEST(api_ordinates_shadow_edges_and_channels) {
         tc_strbuf out;
         tc_api_result_init(&res);
         tc_strbuf_init(&out);
-        CHECK(tc_api_ordinates(body, len, &out, &res) == 200);
+        CHECK(tc_api_ordinates(body, len, NULL, &out, &res) == 200);
         CHECK_ORDINATES_DOC(body, len, &out);
         done(&out, &res, NULL);
         free(body);
@@ -611,7 +611,7 @@ TEST(api_errors_malformed_request) {
         tc_api_result_init(&res);
         tc_strbuf_init(&out);
         tc_strbuf_puts(&out, "keep");
-        int st = tc_api_ordinates(bad[i], strlen(bad[i]), &out, &res);
+        int st = tc_api_ordinates(bad[i], strlen(bad[i]), NULL, &out, &res);
         CHECK_MSG(st == 400 && res.status == 400, "case %zu: status %d", i, st);
         CHECK_MSG(out.len == 4 && !strcmp(out.buf, "keep"), "case %zu: out was touched", i);
         CHECK_PROBLEM(&res, "/problems/malformed-request", 400, "");
@@ -705,13 +705,13 @@ TEST(api_output_deterministic) {
         tc_api_result ra, rb;
         tc_api_result_init(&ra), tc_api_result_init(&rb);
         tc_strbuf_init(&a), tc_strbuf_init(&b);
-        CHECK(tc_api_ordinates(body, len, &a, &ra) == 200);
+        CHECK(tc_api_ordinates(body, len, NULL, &a, &ra) == 200);
         /* Something else in between must not matter. */
         tc_strbuf junk;
         tc_api_result rj;
         CHECK(run_evaluate("{" EVAL_MESH ", \"values\": [9,8,7,6,5], " EVAL_POINTS "}", NULL, &junk, &rj) == 200);
         done(&junk, &rj, NULL);
-        CHECK(tc_api_ordinates(body, len, &b, &rb) == 200);
+        CHECK(tc_api_ordinates(body, len, NULL, &b, &rb) == 200);
         CHECK_MSG(a.len > 0 && a.len == b.len && !memcmp(a.buf, b.buf, a.len), "%s: outputs differ", files[f]);
         done(&a, &ra, NULL);
         done(&b, &rb, NULL);

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "image/image.h"
 #include "io/request.h"
 
 /* A valid 1-channel mesh: the unit square split along its diagonal (0, 2). */
@@ -320,10 +321,60 @@ TEST(request_misspelt_field_warns_with_suggestion) {
 TEST(request_future_fields_do_not_warn) {
     tc_request *r = NULL;
     tc_diags d;
-    CHECK(parse_str("{" MESH1 ", \"quads\": [], \"viewport\": {}, \"format\": \"png\","
-                    " \"exposure\": 1, \"overlay\": true, \"reference\": [], \"methods\": []}",
-                    TC_REQ_MESH, &r, &d) == TC_REQ_OK);
+    CHECK(parse_str("{" MESH1 ", \"quads\": [], \"reference\": [], \"methods\": []}", TC_REQ_MESH, &r, &d) ==
+          TC_REQ_OK);
     CHECK(d.count == 0 && d.warnings == 0);
+    tc_request_free(r);
+    tc_diags_free(&d);
+}
+
+/* The render fields: parsed when valid, each bad one reported at its path. */
+TEST(request_render_fields) {
+    tc_request *r = NULL;
+    tc_diags d;
+    CHECK(parse_str("{" MESH1 ", \"viewport\": {\"x0\": -1, \"y0\": 0, \"x1\": 2.5, \"y1\": 1, \"width\": 64,"
+                    " \"height\": 32}, \"format\": \"exr-half\", \"exposure\": -1.5, \"overlay\": true,"
+                    " \"linear\": true, \"background\": 0.25}",
+                    TC_REQ_MESH | TC_REQ_VIEWPORT, &r, &d) == TC_REQ_OK);
+    CHECK(d.count == 0);
+    if (r) {
+        CHECK(r->has_viewport && r->viewport.x0 == -1 && r->viewport.x1 == 2.5 && r->viewport.width == 64 &&
+              r->viewport.height == 32);
+        CHECK(r->format == TC_IMG_EXR_HALF && r->exposure == -1.5 && r->overlay && r->linear);
+        CHECK(r->has_background && r->background[0] == 0.25);
+    }
+    tc_request_free(r);
+    tc_diags_free(&d);
+    static const struct { const char *json, *path, *msg; int status; } bad[] = {
+        {"\"viewport\": {}", "viewport.x0", "missing required field 'x0'", TC_REQ_MALFORMED},
+        {"\"viewport\": [0, 0, 1, 1, 8, 8]", "viewport", "expected an object", TC_REQ_MALFORMED},
+        {"\"viewport\": {\"x0\": 1, \"y0\": 0, \"x1\": 1, \"y1\": 1, \"width\": 8, \"height\": 8}", "viewport.x1",
+         "must be greater than x0", TC_REQ_INVALID},
+        {"\"viewport\": {\"x0\": 0, \"y0\": 0, \"x1\": 1, \"y1\": 1, \"width\": 0, \"height\": 8}",
+         "viewport.width", "must be 1 to", TC_REQ_INVALID},
+        {"\"viewport\": {\"x0\": 0, \"y0\": 0, \"x1\": 1, \"y1\": 1, \"width\": 8.5, \"height\": 8}",
+         "viewport.width", "must be an integer", TC_REQ_MALFORMED},
+        {"\"format\": \"jpeg\"", "format", "unknown format 'jpeg'", TC_REQ_INVALID},
+        {"\"format\": 3", "format", "expected a string", TC_REQ_MALFORMED},
+        {"\"exposure\": 100", "exposure", "out of range", TC_REQ_INVALID},
+        {"\"overlay\": 1", "overlay", "expected true or false", TC_REQ_MALFORMED},
+        {"\"background\": [1, 2]", "background", "expected an array of 1 numbers", TC_REQ_MALFORMED},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char json[512];
+        snprintf(json, sizeof json, "{" MESH1 ", %s}", bad[i].json);
+        r = NULL;
+        int st = parse_str(json, TC_REQ_MESH, &r, &d);
+        CHECK_MSG(st == bad[i].status && !r, "%s: status %d", bad[i].json, st);
+        CHECK_MSG(d.count >= 1 && !strcmp(d.items[0].path, bad[i].path), "%s: path '%s', want '%s'", bad[i].json,
+                  d.count ? d.items[0].path : "", bad[i].path);
+        if (d.count) CHECK_STR_CONTAINS(d.items[0].message, bad[i].msg);
+        tc_request_free(r);
+        tc_diags_free(&d);
+    }
+    /* The viewport is required only when the caller expects it. */
+    CHECK(parse_str("{" MESH1 "}", TC_REQ_MESH | TC_REQ_VIEWPORT, &r, &d) == TC_REQ_MALFORMED);
+    CHECK(d.count >= 1 && !strcmp(d.items[0].path, "viewport"));
     tc_request_free(r);
     tc_diags_free(&d);
 }

@@ -1,0 +1,206 @@
+/* config.c — the daemon's settings: one table of options drives the
+ * environment, the flags and --help, so the three cannot disagree. */
+#include <errno.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "server/config.h"
+#include "tocher.h"
+
+typedef enum { K_LISTEN, K_INT, K_BYTES, K_SECONDS } kind;
+
+typedef struct {
+    const char *flag, *env, *arg, *help;
+    kind k;
+    size_t off;          /* of the field in tc_srv_config */
+    double min, max;     /* accepted range */
+} option;
+
+#define F(field) offsetof(tc_srv_config, field)
+static const option options[] = {
+    {"--listen", "TOCHER_LISTEN", "HOST:PORT", "address to bind; port 0 picks a free port", K_LISTEN, 0, 0, 0},
+    {"--threads", "TOCHER_THREADS", "N", "HTTP worker threads (requests served side by side)", K_INT, F(threads), 1,
+     1024},
+    {"--render-threads", "TOCHER_RENDER_THREADS", "N", "threads one render may use", K_INT, F(render_threads), 1, 1024},
+    {"--max-body", "TOCHER_MAX_BODY", "BYTES", "largest request body (suffix k, M, G: binary units)", K_BYTES,
+     F(max_body), 1, 1LL << 40},
+    {"--max-vertices", "TOCHER_MAX_VERTICES", "N", "most vertices in one mesh (0: no limit)", K_INT, F(max_vertices), 0,
+     1e15},
+    {"--max-triangles", "TOCHER_MAX_TRIANGLES", "N", "most triangles in one mesh (0: no limit)", K_INT,
+     F(max_triangles), 0, 1e15},
+    {"--max-points", "TOCHER_MAX_POINTS", "N", "most points in one evaluate request (0: no limit)", K_INT,
+     F(max_points), 0, 1e15},
+    {"--max-pixels", "TOCHER_MAX_PIXELS", "N", "most pixels in one render (0: no limit)", K_INT, F(max_pixels), 0,
+     1e15},
+    {"--max-connections", "TOCHER_MAX_CONNECTIONS", "N", "open connections at once; more wait to be accepted", K_INT,
+     F(max_connections), 1, 1e6},
+    {"--request-timeout", "TOCHER_REQUEST_TIMEOUT", "SECONDS",
+     "work allowed per request, then 503 (0: none)", K_SECONDS, F(request_timeout), 0, 86400},
+    {"--connection-timeout", "TOCHER_CONNECTION_TIMEOUT", "SECONDS",
+     "idle time before a connection is closed (0: never)", K_INT, F(connection_timeout), 0, 86400},
+    {"--shutdown-grace", "TOCHER_SHUTDOWN_GRACE", "SECONDS",
+     "on SIGTERM/SIGINT, time left to requests in flight", K_SECONDS, F(shutdown_grace), 0, 86400},
+};
+#undef F
+enum { NOPTIONS = sizeof options / sizeof options[0] };
+
+int tc_cpu_count(void) {
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 1024 ? 1024 : (int)n;
+}
+
+static void defaults(tc_srv_config *c) {
+    int ncpu = tc_cpu_count();
+    memset(c, 0, sizeof *c);
+    strcpy(c->host, "127.0.0.1");
+    c->port = 8080;
+    c->threads = ncpu < 2 ? 2 : ncpu;
+    c->render_threads = ncpu;
+    c->max_body = 64LL << 20;
+    c->max_vertices = 2000000;
+    c->max_triangles = 4000000;
+    c->max_points = 10000000;
+    c->max_pixels = 4096LL * 4096;
+    c->max_connections = 1024;
+    c->connection_timeout = 10;
+    c->request_timeout = 30;
+    c->shutdown_grace = 30;
+}
+
+/* "HOST:PORT" or "[V6ADDR]:PORT". */
+static int parse_listen(tc_srv_config *c, const char *s) {
+    const char *colon = strrchr(s, ':');
+    if (!colon || colon == s) return -1;
+    const char *h = s, *he = colon;
+    if (*s == '[') {
+        if (colon[-1] != ']' || colon - s < 3) return -1;
+        h = s + 1, he = colon - 1;
+    }
+    if ((size_t)(he - h) >= sizeof c->host) return -1;
+    char *end;
+    errno = 0;
+    long p = strtol(colon + 1, &end, 10);
+    if (errno || end == colon + 1 || *end || p < 0 || p > 65535) return -1;
+    memcpy(c->host, h, he - h);
+    c->host[he - h] = '\0';
+    c->port = p;
+    return 0;
+}
+
+/* A number in the option's range; K_BYTES takes a k/M/G suffix. */
+static int parse_number(const option *o, const char *s, double *out) {
+    char *end;
+    errno = 0;
+    double v = o->k == K_SECONDS ? strtod(s, &end) : (double)strtoll(s, &end, 10);
+    if (errno || end == s) return -1;
+    if (o->k == K_BYTES && *end) {
+        const char *units = "kKmMgG";
+        const char *u = strchr(units, *end);
+        if (!u || end[1]) return -1;
+        v *= (double)(1LL << (10 * (1 + (u - units) / 2)));
+        end++;
+    }
+    if (*end || !(v >= o->min && v <= o->max)) return -1;
+    *out = v;
+    return 0;
+}
+
+/* source: the environment variable, or NULL for the flag. */
+static int set_option(tc_srv_config *c, const option *o, const char *value, const char *source) {
+    double v = 0;
+    int bad = o->k == K_LISTEN ? parse_listen(c, value) : parse_number(o, value, &v);
+    if (bad) {
+        fprintf(stderr, "tocherd: %s%s%s: bad value for %s %s", source ? source : o->flag, source ? "=" : " ",
+                value, o->flag, o->arg);
+        if (o->k == K_LISTEN) fprintf(stderr, " (e.g. 127.0.0.1:8080, [::1]:0)\n");
+        else fprintf(stderr, " (%.0f to %.0f%s)\n", o->min, o->max, o->k == K_SECONDS ? ", fractions allowed" : "");
+        return -1;
+    }
+    if (o->k == K_SECONDS) *(double *)((char *)c + o->off) = v;
+    else if (o->k != K_LISTEN) *(long long *)((char *)c + o->off) = (long long)v;
+    return 0;
+}
+
+static int load_env(tc_srv_config *c) {
+    for (int i = 0; i < NOPTIONS; i++) {
+        const char *v = getenv(options[i].env);
+        if (v && *v && set_option(c, &options[i], v, options[i].env)) return -1;
+    }
+    return 0;
+}
+
+/* The default of option o, as text for --help. */
+static void default_text(const option *o, const tc_srv_config *d, char *buf, size_t n) {
+    const char *p = (const char *)d + o->off;
+    if (o->k == K_LISTEN) snprintf(buf, n, "%s:%lld", d->host, d->port);
+    else if (o->k == K_SECONDS) snprintf(buf, n, "%g", *(const double *)p);
+    else snprintf(buf, n, "%lld", *(const long long *)p);
+}
+
+static void help(void) {
+    tc_srv_config d;
+    defaults(&d);
+    printf("usage: tocherd [options]\n\n"
+           "The tocher HTTP daemon: POST /v1/ordinates, /v1/evaluate, /v1/render;\n"
+           "GET /healthz, /metrics, /v1/version. Each option may also be given by the\n"
+           "environment variable shown; flags override the environment.\n\n");
+    for (int i = 0; i < NOPTIONS; i++) {
+        const option *o = &options[i];
+        char flag[64], def[300];
+        snprintf(flag, sizeof flag, "%s %s", o->flag, o->arg);
+        default_text(o, &d, def, sizeof def);
+        printf("  %-30s %s\n  %-30s   env %s, default %s\n", flag, o->help, "", o->env, def);
+    }
+    printf("  %-30s %s\n  %-30s %s\n\n", "--help", "this text", "--version", "print the version");
+    printf("Defaults of --threads (at least 2) and --render-threads follow the number of CPUs (%d here).\n"
+           "Listening on all interfaces needs an explicit --listen 0.0.0.0:PORT.\n",
+           tc_cpu_count());
+}
+
+static const option *find_flag(const char *arg, const char **inline_value) {
+    for (int i = 0; i < NOPTIONS; i++) {
+        size_t n = strlen(options[i].flag);
+        if (strncmp(arg, options[i].flag, n)) continue;
+        if (arg[n] == '\0') return *inline_value = NULL, &options[i];
+        if (arg[n] == '=') return *inline_value = arg + n + 1, &options[i];
+    }
+    return NULL;
+}
+
+/* --help and --version answer before anything else is looked at, even a bad
+ * environment. Returns 1 if one of them was printed. */
+static int help_or_version(int argc, char **argv) {
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return help(), 1;
+        if (!strcmp(argv[i], "--version")) return printf("tocherd %s\n", TC_VERSION), 1;
+    }
+    return 0;
+}
+
+/* --flag VALUE or --flag=VALUE. */
+static int load_args(tc_srv_config *c, int argc, char **argv) {
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v;
+        const option *o = find_flag(a, &v);
+        if (!o) {
+            fprintf(stderr, "tocherd: unknown argument '%s' (try --help)\n", a);
+            return TC_CONFIG_EXIT_USAGE;
+        }
+        if (!v && i + 1 == argc) {
+            fprintf(stderr, "tocherd: %s needs a value %s\n", o->flag, o->arg);
+            return TC_CONFIG_EXIT_USAGE;
+        }
+        if (set_option(c, o, v ? v : argv[++i], NULL)) return TC_CONFIG_EXIT_USAGE;
+    }
+    return TC_CONFIG_RUN;
+}
+
+int tc_config_load(tc_srv_config *c, int argc, char **argv) {
+    defaults(c);
+    if (help_or_version(argc, argv)) return TC_CONFIG_EXIT_OK;
+    if (load_env(c)) return TC_CONFIG_EXIT_USAGE;
+    return load_args(c, argc, argv);
+}

@@ -1,0 +1,28 @@
+/* config.h — the daemon's settings: defaults, then TOCHER_* environment
+ * variables, then command-line flags (flags win); --help and --version. */
+#ifndef TC_SERVER_CONFIG_H
+#define TC_SERVER_CONFIG_H
+
+typedef struct {
+    char host[256];                /* address to bind, numeric or a name */
+    long long port;                /* 0: any free port */
+    long long threads;             /* libmicrohttpd pool threads */
+    long long render_threads;      /* worker threads of one render */
+    long long max_body;            /* bytes */
+    long long max_vertices, max_triangles, max_points, max_pixels; /* 0: no limit */
+    long long max_connections;     /* open connections at once */
+    long long connection_timeout;  /* seconds a connection may stay idle; 0: forever */
+    double request_timeout;        /* seconds of work per request; 0: no deadline */
+    double shutdown_grace;         /* seconds to let requests finish on SIGTERM */
+} tc_srv_config;
+
+enum { TC_CONFIG_RUN, TC_CONFIG_EXIT_OK, TC_CONFIG_EXIT_USAGE };
+
+/* Fills c from defaults, environment and argv. Prints --help / --version to
+ * stdout and errors to stderr; returns what main should do. */
+int tc_config_load(tc_srv_config *c, int argc, char **argv);
+
+/* Online CPUs, at least 1. */
+int tc_cpu_count(void);
+
+#endif

@@ -1,0 +1,28 @@
+/* http.h — the libmicrohttpd glue: the access handler that checks headers,
+ * collects bodies under the limit, dispatches to a route and sends the reply,
+ * and the completion callback that logs and counts each request. */
+#ifndef TC_SERVER_HTTP_H
+#define TC_SERVER_HTTP_H
+
+#include <stdatomic.h>
+#include <stddef.h>
+#include <sys/socket.h>
+#include <sys/types.h>
+
+#include <microhttpd.h>
+
+#include "server/config.h"
+
+/* Shared by all connections (the `cls` of both callbacks). */
+typedef struct {
+    const tc_srv_config *cfg;
+    atomic_int draining; /* set on shutdown: new requests get 503 and Connection: close */
+} tc_http_state;
+
+enum MHD_Result tc_http_access(void *cls, struct MHD_Connection *c, const char *url, const char *method,
+                               const char *version, const char *upload_data, size_t *upload_data_size,
+                               void **req_cls);
+
+void tc_http_completed(void *cls, struct MHD_Connection *c, void **req_cls, enum MHD_RequestTerminationCode toe);
+
+#endif

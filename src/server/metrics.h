@@ -1,0 +1,29 @@
+/* metrics.h — the daemon's counters (requests by route and status, latency
+ * histogram, triangles and pixels, requests in flight) and their Prometheus text. */
+#ifndef TC_SERVER_METRICS_H
+#define TC_SERVER_METRICS_H
+
+#include <stdint.h>
+
+#include "io/strbuf.h"
+
+#define TC_METRICS_MAX_ROUTES 15
+
+/* Names the route slots 0 .. n-1 (labels must outlive the process); requests
+ * matching no route are counted under "unmatched". Call once, before serving. */
+void tc_metrics_init(const char *const *route_labels, int n);
+
+/* A request arrived / finished. route: a slot, or -1 for no route; status: the
+ * status answered, or 0 if the connection ended before an answer. Thread-safe. */
+void tc_metrics_begin(void);
+void tc_metrics_end(int route, int status, double seconds, int64_t triangles, int64_t pixels);
+
+/* Requests begun and not yet ended. */
+long tc_metrics_in_flight(void);
+
+/* Appends the text exposition format (version 0.0.4). */
+void tc_metrics_write(tc_strbuf *out);
+
+#define TC_METRICS_CONTENT_TYPE "text/plain; version=0.0.4; charset=utf-8"
+
+#endif

@@ -1,0 +1,110 @@
+/* server.c — the listening daemon: address resolution, the libmicrohttpd
+ * options (thread pool, limits, timeouts, callbacks), quiesce and stop. */
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "server/http.h"
+#include "server/log.h"
+#include "server/server.h"
+
+struct tc_server {
+    struct MHD_Daemon *d;
+    tc_http_state state;
+    MHD_socket quiesced; /* the listen socket handed back by quiesce; closed after stop */
+    char address[INET6_ADDRSTRLEN + 16];
+};
+
+/* libmicrohttpd's own messages (bad requests it answers itself, socket
+ * errors) go to the same log as ours. */
+static void mhd_log(void *cls, const char *fmt, va_list ap) {
+    (void)cls;
+    char msg[512];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    size_t n = strlen(msg);
+    while (n && (msg[n - 1] == '\n' || msg[n - 1] == '\r')) msg[--n] = '\0';
+    tc_log_notice("libmicrohttpd: %s", msg);
+}
+
+static int resolve(const tc_srv_config *cfg, struct sockaddr_storage *ss, char *err, size_t errlen) {
+    struct addrinfo hints, *ai = NULL;
+    memset(&hints, 0, sizeof hints);
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    hints.ai_flags = AI_NUMERICSERV;
+    char port[16];
+    snprintf(port, sizeof port, "%lld", cfg->port);
+    int rc = getaddrinfo(cfg->host, port, &hints, &ai);
+    if (rc) {
+        snprintf(err, errlen, "cannot use listen address %s: %s", cfg->host, gai_strerror(rc));
+        return -1;
+    }
+    memset(ss, 0, sizeof *ss);
+    memcpy(ss, ai->ai_addr, ai->ai_addrlen);
+    freeaddrinfo(ai);
+    return 0;
+}
+
+/* "HOST:PORT" of the bound socket, the port as the kernel chose it. */
+static void describe(tc_server *s, const struct sockaddr_storage *ss) {
+    char host[INET6_ADDRSTRLEN] = "?";
+    const void *a = ss->ss_family == AF_INET6 ? (const void *)&((const struct sockaddr_in6 *)ss)->sin6_addr
+                                              : (const void *)&((const struct sockaddr_in *)ss)->sin_addr;
+    inet_ntop(ss->ss_family, a, host, sizeof host);
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(s->d, MHD_DAEMON_INFO_BIND_PORT);
+    unsigned port = info ? info->port : 0;
+    const char *fmt = ss->ss_family == AF_INET6 ? "[%s]:%u" : "%s:%u";
+    snprintf(s->address, sizeof s->address, fmt, host, port);
+}
+
+static struct MHD_Daemon *start(tc_server *s, const tc_srv_config *cfg, struct sockaddr_storage *ss) {
+    unsigned flags = MHD_USE_AUTO_INTERNAL_THREAD | MHD_USE_ERROR_LOG | MHD_USE_ITC;
+    if (ss->ss_family == AF_INET6) flags |= MHD_USE_IPv6;
+    /* The port is taken from ss; libmicrohttpd only quotes it in messages. */
+    return MHD_start_daemon(flags, (uint16_t)cfg->port, NULL, NULL, tc_http_access, &s->state,
+                            MHD_OPTION_EXTERNAL_LOGGER, mhd_log, NULL,
+                            MHD_OPTION_SOCK_ADDR, (struct sockaddr *)ss,
+                            MHD_OPTION_THREAD_POOL_SIZE, (unsigned)cfg->threads,
+                            MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections,
+                            MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)cfg->connection_timeout,
+                            MHD_OPTION_NOTIFY_COMPLETED, tc_http_completed, &s->state,
+                            MHD_OPTION_END);
+}
+
+tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
+    struct sockaddr_storage ss;
+    if (resolve(cfg, &ss, err, errlen)) return NULL;
+    tc_server *s = calloc(1, sizeof *s);
+    if (!s) return snprintf(err, errlen, "out of memory"), NULL;
+    s->state.cfg = cfg;
+    atomic_init(&s->state.draining, 0);
+    s->quiesced = MHD_INVALID_SOCKET;
+    s->d = start(s, cfg, &ss);
+    if (!s->d) {
+        snprintf(err, errlen, "cannot listen on %s:%lld (in use, or not an address of this host?)", cfg->host,
+                 cfg->port);
+        free(s);
+        return NULL;
+    }
+    describe(s, &ss);
+    return s;
+}
+
+const char *tc_server_address(const tc_server *s) { return s->address; }
+
+void tc_server_quiesce(tc_server *s) {
+    atomic_store(&s->state.draining, 1);
+    s->quiesced = MHD_quiesce_daemon(s->d);
+}
+
+void tc_server_stop(tc_server *s) {
+    if (!s) return;
+    MHD_stop_daemon(s->d);
+    if (s->quiesced != MHD_INVALID_SOCKET) close(s->quiesced); /* only after stop: see MHD_quiesce_daemon */
+    free(s);
+}

@@ -1,0 +1,177 @@
+/* test_raster.c — tile rendering: every pixel centre owned by the triangle
+ * tc_locate names, valued exactly as tc_eval_points, the same for any thread count. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "meshgen.h"
+#include "props.h"
+
+typedef struct {
+    tmesh g;
+    tc_mesh *m;
+    tc_recon *r;
+    tc_locator *L;
+} scene;
+
+static void scene_init(scene *s, int n, double jitter, int nc, unsigned long seed) {
+    trng rng;
+    trng_seed(&rng, seed);
+    random_flagged_mesh(&s->g, &rng, 0, n);
+    (void)jitter;
+    tmesh_sample(&s->g, nc, smooth_f, NULL, 0, 1, 0.3);
+    s->m = tmesh_build(&s->g);
+    s->r = NULL, s->L = NULL;
+    if (s->m) CHECK(tc_recon_new(s->m, NULL, &s->r, NULL) == TC_OK);
+    if (s->m) CHECK(tc_locator_new(s->m, &s->L) == TC_OK);
+}
+
+static void scene_free(scene *s) {
+    tc_locator_free(s->L);
+    tc_recon_free(s->r);
+    tc_mesh_free(s->m);
+    tmesh_free(&s->g);
+}
+
+/* Renders vp and checks every pixel against tc_locate + tc_eval_points. */
+static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
+    int nc = tc_mesh_channel_count(s->m);
+    size_t np = (size_t)vp->width * vp->height;
+    float *img = malloc(np * nc * sizeof *img);
+    int32_t *own = malloc(np * sizeof *own);
+    double bg[TC_MAX_CHANNELS];
+    for (int ch = 0; ch < nc; ch++) bg[ch] = -7.5 + ch;
+    tc_render_options o = {bg, threads, 0};
+    CHECK(tc_render(s->r, s->L, vp, &o, img, own) == TC_OK);
+    int bad_owner = 0, bad_value = 0;
+    for (int32_t j = 0; j < vp->height; j++)
+        for (int32_t i = 0; i < vp->width; i++) {
+            double xy[2], val[TC_MAX_CHANNELS];
+            int32_t t;
+            tc_viewport_pixel_center(vp, i, j, &xy[0], &xy[1]);
+            tc_eval_points(s->r, s->L, 1, xy, val, NULL, &t);
+            size_t p = (size_t)j * vp->width + i;
+            bad_owner += own[p] != t;
+            for (int ch = 0; ch < nc; ch++) {
+                float want = t >= 0 ? (float)val[ch] : (float)bg[ch];
+                bad_value += memcmp(&img[p * nc + ch], &want, sizeof want) != 0;
+            }
+        }
+    CHECK_MSG(bad_owner == 0, "%d pixels owned differently from tc_locate", bad_owner);
+    CHECK_MSG(bad_value == 0, "%d pixel values differ from tc_eval_points", bad_value);
+    free(img), free(own);
+}
+
+/* Pixel centres on vertices and edges: a 12x12 grid (jittered off the straight
+ * rows/columns) over [0,1]^2 rendered at 24 pixels per cell with the pixel grid
+ * shifted so centres fall on the mesh's grid lines. */
+TEST(raster_matches_locate_and_eval) {
+    scene s;
+    scene_init(&s, 12, 0.25, 2, tc_test_seed() + 20);
+    if (!s.r) return;
+    tc_viewport full = {-0.1, -0.1, 1.1, 1.1, 97, 83};
+    check_tile(&s, &full, 1);
+    double h = 1.0 / (12 * 8); /* centres at k/96: on every straight row/column of the mesh */
+    tc_viewport aligned = {-0.5 * h, -0.5 * h, 1 + 0.5 * h, 1 + 0.5 * h, 97, 97};
+    check_tile(&s, &aligned, 3);
+    tc_viewport part = {0.3, 0.41, 0.52, 0.6, 40, 33}; /* a tile inside the mesh */
+    check_tile(&s, &part, 2);
+    scene_free(&s);
+}
+
+TEST(raster_same_bits_for_any_thread_count) {
+    scene s;
+    scene_init(&s, 16, 0.25, 3, tc_test_seed() + 21);
+    if (!s.r) return;
+    tc_viewport vp = {-0.05, 0, 1, 1.02, 211, 197};
+    size_t n = (size_t)vp.width * vp.height * 3;
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    tc_render_options o = {NULL, 1, 0};
+    CHECK(tc_render(s.r, s.L, &vp, &o, a, NULL) == TC_OK);
+    int threads[] = {2, 3, 4, 8, 16};
+    for (int k = 0; k < 5; k++) {
+        o.threads = threads[k];
+        memset(b, 0xff, n * sizeof *b);
+        CHECK(tc_render(s.r, s.L, &vp, &o, b, NULL) == TC_OK);
+        CHECK_MSG(memcmp(a, b, n * sizeof *a) == 0, "%d threads differ from 1", threads[k]);
+    }
+    free(a), free(b);
+    scene_free(&s);
+}
+
+TEST(raster_outside_background_and_errors) {
+    scene s;
+    scene_init(&s, 12, 0.25, 1, tc_test_seed() + 22);
+    if (!s.r) return;
+    tc_viewport off = {2, 2, 3, 3, 8, 8}; /* entirely outside */
+    float img[64];
+    int32_t own[64];
+    double bg = 0.25;
+    tc_render_options o = {&bg, 1, 0};
+    CHECK(tc_render(s.r, s.L, &off, &o, img, own) == TC_OK);
+    int ok = 1;
+    for (int p = 0; p < 64; p++) ok &= img[p] == 0.25f && own[p] == -1;
+    CHECK(ok);
+    tc_viewport bad = {0, 0, 0, 1, 8, 8}; /* empty rectangle */
+    CHECK(tc_render(s.r, s.L, &bad, &o, img, own) == TC_EINVAL);
+    bad = (tc_viewport){0, 0, 1, 1, 0, 8};
+    CHECK(tc_render(s.r, s.L, &bad, &o, img, own) == TC_EINVAL);
+    bad = (tc_viewport){0, 0, NAN, 1, 8, 8};
+    CHECK(tc_render(s.r, s.L, &bad, &o, img, own) == TC_EINVAL);
+    tc_render_options late = {NULL, 2, 1.0}; /* a deadline long past */
+    tc_viewport vp = {0, 0, 1, 1, 8, 8};
+    CHECK(tc_render(s.r, s.L, &vp, &late, img, own) == TC_ETIMEOUT);
+    scene_free(&s);
+}
+
+/* The overlay marks C0 edges yellow and leaves cell interiors alone. */
+TEST(raster_overlay_colours_edges) {
+    scene s;
+    scene_init(&s, 12, 0.25, 3, tc_test_seed() + 23);
+    if (!s.r) return;
+    tc_viewport vp = {0, 0, 1, 1, 120, 120};
+    size_t n = (size_t)vp.width * vp.height * 3;
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    CHECK(tc_render(s.r, s.L, &vp, NULL, a, NULL) == TC_OK);
+    memcpy(b, a, n * sizeof *a);
+    tc_render_overlay(s.r, &vp, 2.0, b);
+    /* Row 4 of the mesh (y = 1/3) is a straight C0 line: the pixel row at
+     * y = 1/3 is j = 80 (centre 1 - 80.5/120 = 0.329...), painted yellow. */
+    int yellow = 0, changed = 0;
+    for (int32_t i = 0; i < vp.width; i++) {
+        const float *p = b + ((size_t)80 * vp.width + i) * 3;
+        yellow += p[0] == 2.0f && p[1] == 1.6f && p[2] == 0.0f;
+    }
+    for (size_t k = 0; k < n; k++) changed += a[k] != b[k];
+    CHECK_MSG(yellow > vp.width / 2, "%d yellow pixels on the C0 row", yellow);
+    CHECK_MSG(changed > 0 && (size_t)changed < n / 2, "%d channel values changed", changed);
+    free(a), free(b);
+    scene_free(&s);
+}
+
+/* Pixel centres exactly on vertices and edges: mesh vertices at k/8 and a tile
+ * whose centres are exactly i/64 (x0 = -1/128, step 1/64), so every vertex and
+ * every cell edge and diagonal passes through centres. */
+TEST(raster_centres_exactly_on_vertices_and_edges) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 24);
+    scene s;
+    tmesh_grid(&s.g, 8, 8, 0, -1, &rng);
+    int32_t row[9];
+    for (int i = 0; i <= 8; i++) row[i] = tmesh_gv(8, i, 4);
+    tmesh_add_line(&s.g, TC_C0, row, 9);
+    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+    s.m = tmesh_build(&s.g);
+    s.r = NULL, s.L = NULL;
+    if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
+    if (s.m) CHECK(tc_locator_new(s.m, &s.L) == TC_OK);
+    if (!s.r) return;
+    tc_viewport vp = {-1.0 / 128, -1.0 / 128, 1 - 1.0 / 128, 1 - 1.0 / 128, 64, 64};
+    double x, y;
+    tc_viewport_pixel_center(&vp, 8, 40, &x, &y);
+    CHECK(x == 8.0 / 64 && y == 23.0 / 64); /* the centres really are the lattice */
+    check_tile(&s, &vp, 1);
+    check_tile(&s, &vp, 4);
+    scene_free(&s);
+}
