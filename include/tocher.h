@@ -259,6 +259,23 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
  * all times `scale`. */
 void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, float *values);
 
+/* ---- error against a reference -------------------------------------------- */
+
+/* Errors of a reconstruction against reference values, pooled over channels. */
+typedef struct {
+    double max_abs;   /* max |ref - rec| */
+    double rms;       /* sqrt(mean (ref - rec)^2) */
+    double mean_rel;  /* Bastos & Oliveira's: mean of |ref - rec| / scale */
+    double scale;     /* the full-scale value mean_rel divides by */
+    int64_t n;        /* points compared (those inside the mesh) */
+    int64_t outside;  /* points outside the mesh: not compared */
+} tc_error_stats;
+
+/* Compares r with ref[n][C] at xy[n][2]. scale is the largest value the
+ * function can take (the full scale of an image); <= 0 means max |ref|. */
+int tc_compare(const tc_recon *r, const tc_locator *L, size_t n, const double *xy, const double *ref, double scale,
+               tc_error_stats *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -18,6 +18,7 @@ static const char usage[] =
     "  ordinates MESH.json [-o OUT]              Bezier ordinates of the reconstruction\n"
     "  eval MESH.json [POINTS.json] [-o OUT]     values (and gradients) at points\n"
     "  render MESH.json [-o OUT]                 an image tile of the \"viewport\" in MESH.json\n"
+    "  compare MESH.json [-o OUT]                each method's error against \"reference\" samples\n"
     "  version                                   print the version\n"
     "  help                                      this text\n"
     "\n"
@@ -116,6 +117,7 @@ static int dispatch(const args *a, const char *body, size_t len, const char *pts
                     tc_api_result *res) {
     if (!strcmp(a->cmd, "ordinates")) return tc_api_ordinates(body, len, NULL, out, res);
     if (!strcmp(a->cmd, "eval")) return tc_api_evaluate(body, len, pts, plen, NULL, out, res);
+    if (!strcmp(a->cmd, "compare")) return tc_api_compare(body, len, NULL, out, res);
     long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
     tc_api_limits lim = {0, 0, 0, 0, a->threads ? a->threads : (ncpu > 0 ? (int)ncpu : 1), 0};
     return tc_api_render(body, len, accept_of(a->out), &lim, out, res);
@@ -161,7 +163,8 @@ int main(int argc, char **argv) {
         printf("tocher %s\n", TC_VERSION);
         return 0;
     }
-    int known = !strcmp(a.cmd, "ordinates") || !strcmp(a.cmd, "eval") || !strcmp(a.cmd, "render");
+    int known = !strcmp(a.cmd, "ordinates") || !strcmp(a.cmd, "eval") || !strcmp(a.cmd, "render") ||
+                !strcmp(a.cmd, "compare");
     if (!known || a.nfiles < 1 || (strcmp(a.cmd, "eval") && a.nfiles > 1)) {
         fprintf(stderr, "tocher: %s\n\n%s", known ? "missing or extra file arguments" : "unknown command", usage);
         return EXIT_USAGE;

@@ -67,7 +67,8 @@ static int within_limits(const tc_request *q, const tc_api_limits *lim, tc_api_r
     if (!lim) return 1;
     return !over(res, "vertices", q->desc.nverts, lim->max_vertices, "vertices") &&
            !over(res, "triangles", q->desc.ntris, lim->max_triangles, "triangles") &&
-           !over(res, "points", (int64_t)q->npoints, lim->max_points, "points");
+           !over(res, "points", (int64_t)q->npoints, lim->max_points, "points") &&
+           !over(res, "reference.points", (int64_t)q->nreference, lim->max_points, "reference points");
 }
 
 static int job_build(job *j, const char *body, size_t len, unsigned expect, const tc_api_limits *lim,
@@ -292,6 +293,101 @@ int tc_api_render(const char *body, size_t len, const char *accept, const tc_api
         }
     }
     tile_free(&t);
+    job_free(&j);
+    return res->status;
+}
+
+/* ---- /v1/compare ---- */
+
+static void compare_member_number(tc_strbuf *b, const char *name, double x) {
+    tc_strbuf_putc(b, ',');
+    tc_strbuf_json_string(b, name);
+    tc_strbuf_putc(b, ':');
+    tc_strbuf_double(b, x);
+}
+
+static void compare_options(tc_strbuf *b, const tc_options *o) {
+    tc_strbuf_puts(b, "{\"method\":");
+    tc_strbuf_json_string(b, tc_method_name(o->method));
+    if (o->method == TC_METHOD_CLOUGH_TOCHER || o->method == TC_METHOD_CLOUGH_TOCHER_C1) {
+        tc_strbuf_puts(b, ",\"cross_boundary\":");
+        tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
+        tc_strbuf_puts(b, ",\"wedges\":");
+        tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
+        tc_strbuf_puts(b, ",\"tangents\":");
+        tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
+    }
+}
+
+/* One method: build it, compare it at the reference points, write its entry. */
+static void compare_one(const job *j, const tc_locator *L, const tc_options *o, tc_strbuf *b, tc_api_result *res,
+                        double *t0) {
+    const tc_request *q = j->req;
+    tc_recon *r = NULL;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    compare_options(b, o);
+    double t_build = tc_api_now_ms();
+    int st = tc_recon_new(j->mesh, o, &r, &dg);
+    double build_ms = tc_api_now_ms() - t_build;
+    lap(res, TC_PHASE_BUILD, t0);
+    if (st != TC_OK) {
+        tc_strbuf_puts(b, ",\"error\":{\"path\":");
+        tc_strbuf_json_string(b, dg.count ? dg.items[0].path : "");
+        tc_strbuf_puts(b, ",\"message\":");
+        tc_strbuf_json_string(b, dg.count ? dg.items[0].message : "out of memory");
+        tc_strbuf_puts(b, "}}");
+    } else {
+        tc_error_stats e;
+        double t_eval = tc_api_now_ms();
+        tc_compare(r, L, q->nreference, q->reference_points, q->reference_values, q->reference_scale, &e);
+        double eval_ms = tc_api_now_ms() - t_eval;
+        lap(res, TC_PHASE_EVALUATE, t0);
+        compare_member_number(b, "build_ms", build_ms);
+        compare_member_number(b, "evaluate_ms", eval_ms);
+        compare_member_number(b, "max_abs", e.max_abs);
+        compare_member_number(b, "rms", e.rms);
+        compare_member_number(b, "mean_rel", e.mean_rel);
+        compare_member_number(b, "scale", e.scale);
+        tc_strbuf_printf(b, ",\"compared\":%lld,\"outside\":%lld}", (long long)e.n, (long long)e.outside);
+    }
+    tc_recon_free(r);
+    tc_diags_free(&dg);
+}
+
+int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
+    static const tc_method every[] = {TC_METHOD_CLOUGH_TOCHER, TC_METHOD_CLOUGH_TOCHER_C1, TC_METHOD_LINEAR,
+                                      TC_METHOD_LINEAR4, TC_METHOD_CONSTANT};
+    double t0 = tc_api_now_ms();
+    job j = {0};
+    int rs = tc_request_parse(body, len, TC_REQ_MESH | TC_REQ_REFERENCE, &j.req, &res->diags);
+    lap(res, TC_PHASE_PARSE, &t0);
+    if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
+    tc_locator *L = NULL;
+    int st = within_limits(j.req, lim, res) ? tc_mesh_new(&j.req->desc, &j.mesh, &res->diags) : -1;
+    if (st == TC_OK) st = tc_locator_new(j.mesh, &L);
+    lap(res, TC_PHASE_VALIDATE, &t0);
+    if (st == TC_OK) {
+        tc_strbuf b;
+        tc_strbuf_init(&b);
+        tc_strbuf_printf(&b, "{\"channels\":%d,\"reference_points\":%zu,\"results\":[", j.req->desc.nchan,
+                         j.req->nreference);
+        int n = j.req->nmethods ? j.req->nmethods : (int)(sizeof every / sizeof every[0]);
+        for (int i = 0; i < n; i++) {
+            tc_options o = j.req->opt;
+            if (j.req->nmethods) o = j.req->methods[i];
+            else o.method = every[i];
+            if (i) tc_strbuf_putc(&b, ',');
+            compare_one(&j, L, &o, &b, res, &t0);
+        }
+        tc_strbuf_putc(&b, ']');
+        res->triangles = (int64_t)n * j.req->desc.ntris;
+        finish(out, &b, res);
+        lap(res, TC_PHASE_ENCODE, &t0);
+    } else if (st > 0) {
+        res->status = status_of_core(st);
+    }
+    tc_locator_free(L);
     job_free(&j);
     return res->status;
 }

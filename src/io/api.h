@@ -50,6 +50,12 @@ int tc_api_evaluate(const char *body, size_t len, const char *points, size_t ple
 int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
                   tc_api_result *res);
 
+/* POST /v1/compare: mesh + "reference" {points, values, scale} + "methods"
+ * (names or option objects; default every method) -> for each method its
+ * error against the reference (max_abs, rms, mean_rel) and the time it took to
+ * build and to evaluate. A method that cannot run on this mesh gets an "error". */
+int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res);
+
 /* An application/problem+json body for a failed result. */
 void tc_api_problem(tc_strbuf *out, const tc_api_result *res);
 

@@ -314,7 +314,8 @@ enum {
     ROLE_MESH = 1,      /* vertices, triangles, values: all or none */
     ROLE_MESH_DATA = 2, /* meaningless without a mesh: makes the mesh required */
     ROLE_POINTS = 4,    /* required when TC_REQ_POINTS is expected */
-    ROLE_VIEWPORT = 8   /* required when TC_REQ_VIEWPORT is expected */
+    ROLE_VIEWPORT = 8,  /* required when TC_REQ_VIEWPORT is expected */
+    ROLE_REFERENCE = 16 /* required when TC_REQ_REFERENCE is expected */
 };
 
 typedef struct {
@@ -910,6 +911,93 @@ static void parse_exposure(reader *rd, const cJSON *v, const jpath *p) {
 static void parse_overlay(reader *rd, const cJSON *v, const jpath *p) { read_bool(rd, v, p, &rd->r->overlay); }
 static void parse_linear(reader *rd, const cJSON *v, const jpath *p) { read_bool(rd, v, p, &rd->r->linear); }
 
+/* ---- fields: comparison ------------------------------------------------------------ */
+
+static const field reference_fields[] = {
+    {"points", NULL, 0, "[[x, y], ...]"},
+    {"values", NULL, 0, "[z, ...] or [[z1, ..., zC], ...]"},
+    {"scale", NULL, 0, "the full-scale value"},
+};
+enum { REF_POINTS, REF_VALUES, REF_SCALE, REF_NFIELDS };
+
+/* The reference values: one per point, C channels each. */
+static void read_reference_values(reader *rd, const cJSON *v, const jpath *p, size_t n) {
+    size_t m, i = 0;
+    if (open_array(rd, v, p, "an array of reference values [z, ...] or [[z1, ..., zC], ...]", SIZE_MAX / 16, &m))
+        return;
+    if (m != n) {
+        value_error(rd, p, "%zu values for %zu points", m, n);
+        return;
+    }
+    double *z = own_alloc(rd, n, (size_t)rd->nchan * sizeof *z);
+    if (n && !z) return;
+    for (const cJSON *e = v->child; e; e = e->next, i++) {
+        jpath pi = index_path(p, i);
+        read_channels(rd, e, &pi, z + i * (size_t)rd->nchan);
+    }
+    rd->r->reference_values = z;
+}
+
+static void parse_reference(reader *rd, const cJSON *v, const jpath *p) {
+    const cJSON *found[REF_NFIELDS];
+    if (!rd->nchan || read_members(rd, v, p, reference_fields, REF_NFIELDS, found, "an object {points, values}"))
+        return;
+    jpath pp = key_path(p, "points"), pv = key_path(p, "values"), ps = key_path(p, "scale");
+    if (!found[REF_POINTS] || !found[REF_VALUES]) {
+        shape_error(rd, found[REF_POINTS] ? &pv : &pp, "missing required field '%s'",
+                    found[REF_POINTS] ? "values" : "points");
+        return;
+    }
+    size_t n;
+    double *xy;
+    if (read_xy_list(rd, found[REF_POINTS], &pp, SIZE_MAX / 2 / sizeof(double), &n, &xy)) return;
+    rd->r->nreference = n;
+    rd->r->reference_points = xy;
+    read_reference_values(rd, found[REF_VALUES], &pv, n);
+    if (found[REF_SCALE] && !read_number(rd, found[REF_SCALE], &ps, &rd->r->reference_scale) &&
+        !(rd->r->reference_scale > 0))
+        value_error(rd, &ps, "scale must be positive, got %g", rd->r->reference_scale);
+}
+
+static const field method_fields[] = {
+    {"method", NULL, 0, ""}, {"cross_boundary", NULL, 0, ""}, {"wedges", NULL, 0, ""}, {"tangents", NULL, 0, ""}};
+enum { MF_METHOD, MF_CROSS, MF_WEDGES, MF_TANGENTS, MF_NFIELDS };
+
+/* One entry of "methods": a method name, or an object of options (the
+ * request's own options are the defaults for the fields it leaves out). */
+static void read_method(reader *rd, const cJSON *e, const jpath *p, tc_options *o) {
+    int x;
+    *o = rd->r->opt;
+    if (is_type(e, cJSON_String)) {
+        if (!read_name(rd, e, p, method_parse_int, method_name_int, &x)) o->method = (tc_method)x;
+        return;
+    }
+    const cJSON *found[MF_NFIELDS];
+    if (read_members(rd, e, p, method_fields, MF_NFIELDS, found, "a method name or an object {method, ...}"))
+        return;
+    jpath pk[MF_NFIELDS];
+    for (int i = 0; i < MF_NFIELDS; i++) pk[i] = key_path(p, method_fields[i].name);
+    if (found[MF_METHOD] && !read_name(rd, found[MF_METHOD], &pk[MF_METHOD], method_parse_int, method_name_int, &x))
+        o->method = (tc_method)x;
+    if (found[MF_CROSS] && !read_name(rd, found[MF_CROSS], &pk[MF_CROSS], cross_parse_int, cross_name_int, &x))
+        o->cross_boundary = (tc_cross)x;
+    if (found[MF_WEDGES] && !read_name(rd, found[MF_WEDGES], &pk[MF_WEDGES], wedges_parse_int, wedges_name_int, &x))
+        o->wedges = (tc_wedges)x;
+    if (found[MF_TANGENTS] &&
+        !read_name(rd, found[MF_TANGENTS], &pk[MF_TANGENTS], tangents_parse_int, tangents_name_int, &x))
+        o->tangents = (tc_tangents)x;
+}
+
+static void parse_methods(reader *rd, const cJSON *v, const jpath *p) {
+    size_t n, i = 0;
+    if (open_array(rd, v, p, "an array of methods", TC_REQ_MAX_METHODS, &n)) return;
+    for (const cJSON *e = v->child; e; e = e->next, i++) {
+        jpath pi = index_path(p, i);
+        read_method(rd, e, &pi, &rd->r->methods[i]);
+    }
+    rd->r->nmethods = (int)n;
+}
+
 /* A number (every channel) or one number per channel. */
 static void parse_background(reader *rd, const cJSON *v, const jpath *p) {
     if (!rd->nchan) return; /* values unreadable: already reported */
@@ -951,10 +1039,10 @@ static const field top_fields[] = {
     {"overlay", parse_overlay, 0, ""},
     {"linear", parse_linear, 0, ""},
     {"background", parse_background, 0, ""},
+    {"reference", parse_reference, ROLE_REFERENCE, "{points, values}"},
+    {"methods", parse_methods, 0, ""},
     /* accepted now, read by the endpoints that add them */
     {"quads", NULL, 0, ""},
-    {"reference", NULL, 0, ""},
-    {"methods", NULL, 0, ""},
 };
 #define NTOP ((int)(sizeof top_fields / sizeof top_fields[0]))
 
@@ -968,7 +1056,8 @@ static void check_required(reader *rd, const cJSON *const *found) {
         unsigned role = top_fields[i].role;
         int required = ((role & ROLE_MESH) && want_mesh) ||
                        ((role & ROLE_POINTS) && (rd->expect & TC_REQ_POINTS)) ||
-                       ((role & ROLE_VIEWPORT) && (rd->expect & TC_REQ_VIEWPORT));
+                       ((role & ROLE_VIEWPORT) && (rd->expect & TC_REQ_VIEWPORT)) ||
+                       ((role & ROLE_REFERENCE) && (rd->expect & TC_REQ_REFERENCE));
         if (required && !found[i]) {
             jpath p = key_path(NULL, top_fields[i].name);
             shape_error(rd, &p, "missing required field '%s': expected %s", top_fields[i].name,

@@ -8,7 +8,7 @@
 #include "tocher.h"
 
 /* Which parts a caller expects (bit flags for tc_request_parse's `expect`). */
-enum { TC_REQ_MESH = 1, TC_REQ_POINTS = 2, TC_REQ_VIEWPORT = 4 };
+enum { TC_REQ_MESH = 1, TC_REQ_POINTS = 2, TC_REQ_VIEWPORT = 4, TC_REQ_REFERENCE = 8 };
 
 typedef enum {
     TC_REQ_OK = 0,
@@ -16,6 +16,9 @@ typedef enum {
     TC_REQ_INVALID = 2,   /* well-formed JSON whose values are invalid -> HTTP 422 */
     TC_REQ_NOMEM = 3      /* an allocation failed -> HTTP 500/503 */
 } tc_req_status;
+
+/* Most reconstructions one /v1/compare request may ask for. */
+#define TC_REQ_MAX_METHODS 32
 
 /* Number of arrays a request can own; every parsed field owns at most a few. */
 #define TC_REQ_OWNED_MAX 32
@@ -38,6 +41,14 @@ typedef struct tc_request {
     int linear;           /* "linear": PNG without the sRGB transfer */
     int has_background;
     double background[TC_MAX_CHANNELS]; /* "background": value of pixels outside the mesh */
+
+    /* /v1/compare */
+    size_t nreference;         /* "reference": {"points": [[x, y], ...], "values": [...], "scale": s} */
+    double *reference_points;  /* [nreference][2] */
+    double *reference_values;  /* [nreference][C] */
+    double reference_scale;    /* full scale for the mean relative error; 0 = max |values| */
+    int nmethods;              /* "methods": ["linear", {"method": ..., "cross_boundary": ...}, ...] */
+    tc_options methods[TC_REQ_MAX_METHODS];
 
     /* private: the allocations behind desc and points, freed by tc_request_free */
     void *owned_[TC_REQ_OWNED_MAX];

@@ -7,10 +7,12 @@
 #include "server/routes.h"
 #include "tocher.h"
 
+/* Every JSON answer carries a "timings" object, these (all phases 0) too. */
 static void put_json(tc_reply *out, const char *text) {
     out->status = 200;
     out->content_type = TC_JSON_TYPE;
     tc_strbuf_puts(&out->body, text);
+    tc_api_add_timings(&out->body, &out->res);
 }
 
 static void healthz(const tc_route_input *in, tc_reply *out) {
@@ -59,10 +61,16 @@ static void render(const tc_route_input *in, tc_reply *out) {
     api_reply(st, 0, out);
 }
 
+static void compare(const tc_route_input *in, tc_reply *out) {
+    int st = tc_api_compare(in->body, in->len, &in->lim, &out->body, &out->res);
+    api_reply(st, 1, out);
+}
+
 static const tc_route routes[] = {
     {"/v1/ordinates", "POST", "POST", ordinates},
     {"/v1/evaluate", "POST", "POST", evaluate},
     {"/v1/render", "POST", "POST", render},
+    {"/v1/compare", "POST", "POST", compare},
     {"/healthz", "GET", "GET, HEAD", healthz},
     {"/metrics", "GET", "GET, HEAD", metrics},
     {"/v1/version", "GET", "GET, HEAD", version},

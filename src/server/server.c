@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <netdb.h>
 #include <netinet/in.h>
+#include <sys/socket.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -100,6 +101,10 @@ const char *tc_server_address(const tc_server *s) { return s->address; }
 void tc_server_quiesce(tc_server *s) {
     atomic_store(&s->state.draining, 1);
     s->quiesced = MHD_quiesce_daemon(s->d);
+    /* The socket stays open until MHD_stop_daemon (the library's rule), but it
+     * must stop taking connections now: shutting it down makes new connects
+     * fail at once and resets those queued, instead of hanging until exit. */
+    if (s->quiesced != MHD_INVALID_SOCKET) shutdown(s->quiesced, SHUT_RDWR);
 }
 
 void tc_server_stop(tc_server *s) {
