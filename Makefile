@@ -29,7 +29,7 @@ LIBS     := $(CJSON_LIBS) -lm -lpthread -ldl
 ALL_CXXFLAGS = -std=c++17 $(OPT) -g $(SAN) -fPIC -Wall -Wextra -Werror -Iinclude -Isrc $(OIIO_CFLAGS) $(CXXFLAGS)
 
 CORE_SRC := $(wildcard src/core/*.c)
-IO_SRC   := $(wildcard src/io/*.c) $(wildcard src/image/*.c)
+IO_SRC   := $(wildcard src/io/*.c) $(wildcard src/image/*.c) $(wildcard src/scenes/*.c)
 CLI_SRC  := $(wildcard src/cli/*.c)
 SRV_SRC  := $(wildcard src/server/*.c)
 TEST_SRC := tests/main.c $(wildcard tests/unit/*.c)

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include "io/api.h"
+#include "io/request_write.h"
+#include "scenes/meshing.h"
 #include "tocher.h"
 
 enum { EXIT_USAGE = 2, EXIT_INPUT = 3, EXIT_IO = 4, EXIT_INTERNAL = 5 };
@@ -19,6 +21,10 @@ static const char usage[] =
     "  eval MESH.json [POINTS.json] [-o OUT]     values (and gradients) at points\n"
     "  render MESH.json [-o OUT]                 an image tile of the \"viewport\" in MESH.json\n"
     "  compare MESH.json [-o OUT]                each method's error against \"reference\" samples\n"
+    "  scene NAME [--mesh disc|uniform|adaptive] [--density N] [--gradients]\n"
+    "        [--no-midpoints] [--threshold T] [--depth D] [-o OUT]\n"
+    "                                            a reference scene meshed and sampled, as MESH.json\n"
+    "  scene --list                              the reference scenes\n"
     "  version                                   print the version\n"
     "  help                                      this text\n"
     "\n"
@@ -149,8 +155,117 @@ static int run(const args *a) {
     return rc;
 }
 
+/* ---- tocher scene: the built-in front-end (src/scenes) ---- */
+
+/* "tocher: unknown WHAT 'BAD' (known: a, b, c)" (or "no WHAT given") on standard error. */
+static void list_known(const char *what, const char *bad, const char *(*name_of)(int), int n) {
+    if (bad) fprintf(stderr, "tocher: unknown %s '%s' (known:", what, bad);
+    else fprintf(stderr, "tocher: no %s given (known:", what);
+    for (int i = 0; i < n; i++) fprintf(stderr, "%s %s", i ? "," : "", name_of(i));
+    fputs(")\n", stderr);
+}
+static const char *scene_name_of(int i) { return tc_scene_name((tc_scene_id)i); }
+static const char *kind_name_of(int i) { return tc_scene_mesh_kind_name((tc_scene_mesh_kind)i); }
+
+/* A whole-string integer in [lo, hi]; 0, or -1 with a message. */
+static int int_arg(const char *flag, const char *s, long lo, long hi, int *out) {
+    char *end;
+    errno = 0;
+    long x = strtol(s, &end, 10);
+    if (end == s || *end || errno || x < lo || x > hi) {
+        fprintf(stderr, "tocher: %s %s: expected an integer from %ld to %ld\n", flag, s, lo, hi);
+        return -1;
+    }
+    *out = (int)x;
+    return 0;
+}
+
+/* A whole-string number >= 0; 0, or -1 with a message. */
+static int threshold_arg(const char *s, double *out) {
+    char *end;
+    errno = 0;
+    *out = strtod(s, &end);
+    if (end == s || *end || errno || !(*out >= 0)) {
+        fprintf(stderr, "tocher: --threshold %s: expected a number >= 0\n", s);
+        return -1;
+    }
+    return 0;
+}
+
+/* Applies the option at argv[*i] (moving *i past its value, if it takes one). */
+static int scene_option(int argc, char **argv, int *i, tc_scene_mesh_opts *o, const char **name, const char **out) {
+    static const char *const valued[] = {"--mesh", "--density", "--threshold", "--depth", "-o"};
+    const char *a = argv[*i], *v = NULL;
+    for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++)
+        if (!strcmp(a, valued[k])) {
+            if (*i + 1 >= argc) {
+                fprintf(stderr, "tocher: %s needs a value\n", a);
+                return -1;
+            }
+            v = argv[++*i];
+        }
+    if (!strcmp(a, "--gradients")) o->gradients = 1;
+    else if (!strcmp(a, "--no-midpoints")) o->midpoints = 0;
+    else if (!strcmp(a, "--mesh") && tc_scene_mesh_kind_parse(v, &o->kind)) {
+        list_known("mesh kind", v, kind_name_of, 3);
+        return -1;
+    } else if (!strcmp(a, "--mesh")) return 0;
+    else if (!strcmp(a, "--density")) return int_arg(a, v, 1, 1024, &o->density);
+    else if (!strcmp(a, "--depth")) return int_arg(a, v, 0, 12, &o->max_depth);
+    else if (!strcmp(a, "--threshold")) return threshold_arg(v, &o->threshold);
+    else if (!strcmp(a, "-o")) *out = v;
+    else if (a[0] != '-' && !*name) *name = a;
+    else {
+        fprintf(stderr, "tocher: scene: unexpected argument '%s'\n\n%s", a, usage);
+        return -1;
+    }
+    return 0;
+}
+
+static int scene_list(void) {
+    for (int i = 0; i < TC_SCENE_COUNT; i++)
+        printf("%-14s %s\n", tc_scene_name((tc_scene_id)i), tc_scene_summary((tc_scene_id)i));
+    return 0;
+}
+
+/* `tocher scene NAME ...`: the scene's mesh and samples as a request (method
+ * clough-tocher), ready for `tocher ordinates` or the daemon. */
+static int scene_command(int argc, char **argv) {
+    tc_scene_mesh_opts o;
+    const char *name = NULL, *out = NULL;
+    tc_scene_mesh_opts_default(&o);
+    if (argc == 3 && !strcmp(argv[2], "--list")) return scene_list();
+    for (int i = 2; i < argc; i++)
+        if (scene_option(argc, argv, &i, &o, &name, &out)) return EXIT_USAGE;
+    tc_scene_id id;
+    if (!name || tc_scene_parse(name, &id)) {
+        list_known("scene", name, scene_name_of, TC_SCENE_COUNT);
+        return EXIT_USAGE;
+    }
+    tc_scene s;
+    tc_scene_mesh *m = NULL;
+    tc_scene_init(&s, id);
+    int st = tc_scene_mesh_new(&s, &o, &m);
+    if (st != TC_OK) {
+        fprintf(stderr, "tocher: scene %s: %s\n", name, st == TC_ELIMIT ? "the mesh would exceed 2^24 triangles" :
+                        st == TC_ENOMEM ? "out of memory" : "invalid options");
+        return st == TC_ENOMEM ? EXIT_INTERNAL : EXIT_INPUT;
+    }
+    tc_options opt;
+    tc_strbuf b;
+    tc_options_default(&opt);
+    tc_strbuf_init(&b);
+    tc_json_request(&b, &m->desc, &opt);
+    int rc = b.oom ? EXIT_INTERNAL : write_out(out, &b);
+    if (b.oom) fputs("tocher: out of memory\n", stderr);
+    tc_strbuf_free(&b);
+    tc_scene_mesh_free(m);
+    return rc;
+}
+
 int main(int argc, char **argv) {
     args a;
+    if (argc > 1 && !strcmp(argv[1], "scene")) return scene_command(argc, argv);
     if (parse_args(argc, argv, &a) < 0) {
         fputs(usage, stderr);
         return EXIT_USAGE;

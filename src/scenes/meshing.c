@@ -28,7 +28,7 @@ void tc_scene_mesh_opts_default(tc_scene_mesh_opts *o) {
     o->density = 8;
     o->midpoints = 1;
     o->gradients = 0;
-    o->threshold = 0.05;
+    o->threshold = 0.1;
     o->max_depth = 4;
 }
 

@@ -30,7 +30,7 @@ typedef struct {
     int max_depth;    /* adaptive: at most this many splits below the start grid, 0..12 */
 } tc_scene_mesh_opts;
 
-/* disc, N = 8, midpoints on, gradients off, threshold 0.05, depth 4. */
+/* disc, N = 8, midpoints on, gradients off, threshold 0.1, depth 4. */
 void tc_scene_mesh_opts_default(tc_scene_mesh_opts *o);
 
 /* A mesh with its samples. desc is ready for tc_mesh_new and tc_json_request

@@ -33,15 +33,20 @@ typedef struct {
 
 static const scene_def defs[TC_SCENE_COUNT] = {
     [TC_SCENE_SQUARE_LIGHT] = {"square-light", "square light, side 0.5 at height 0.4, nothing in the way (smooth)",
-                               0, {0.25, 0.25, 0.75, 0.75}, 0.4, TC_OCCLUDER_NONE, {0, 0, 0, 0}, 0, 0},
-    [TC_SCENE_PENUMBRA] = {"penumbra", "square light (side 0.3, H 1) and square occluder (side 0.3, h 0.5): C0 penumbra edges",
-                           0, {0.35, 0.35, 0.65, 0.65}, 1.0, TC_OCCLUDER_SQUARE, {0.32, 0.37, 0.62, 0.67}, 0.5, 0.5},
-    [TC_SCENE_POINT_SHADOW] = {"point-shadow", "point light at height 1, square occluder (side 0.3, h 0.5): C-1 hard shadow",
-                               1, {0.5, 0.5, 0.5, 0.5}, 1.0, TC_OCCLUDER_SQUARE, {0.35, 0.35, 0.65, 0.65}, 0.5, 0.5},
+                               0, {0.25, 0.25, 0.75, 0.75}, 0.4,
+                               TC_OCCLUDER_NONE, {0, 0, 0, 0}, 0, 0},
+    [TC_SCENE_PENUMBRA] = {"penumbra", "square light (side 0.3, H 1), square occluder (side 0.3, h 0.5): C0 edges",
+                           0, {0.35, 0.35, 0.65, 0.65}, 1.0,
+                           TC_OCCLUDER_SQUARE, {0.32, 0.37, 0.62, 0.67}, 0.5, 0.5},
+    [TC_SCENE_POINT_SHADOW] = {"point-shadow", "point light at height 1, square occluder (side 0.3, h 0.5): C-1 shadow",
+                               1, {0.5, 0.5, 0.5, 0.5}, 1.0,
+                               TC_OCCLUDER_SQUARE, {0.35, 0.35, 0.65, 0.65}, 0.5, 0.5},
     [TC_SCENE_BOX] = {"box", "box [0.4,0.6]^2 x [0,0.15] on the receiver under a square light: C-1 contact, C0 shadow",
-                      0, {0.35, 0.35, 0.65, 0.65}, 1.0, TC_OCCLUDER_BOX, {0.4, 0.4, 0.6, 0.6}, 0.0, 0.15},
-    [TC_SCENE_STIFF] = {"stiff", "as penumbra with the occluder at h 1e-4: penumbrae 3e-5 wide, slivers, steep gradients",
-                        0, {0.35, 0.35, 0.65, 0.65}, 1.0, TC_OCCLUDER_SQUARE, {0.32, 0.37, 0.62, 0.67}, 1e-4, 1e-4},
+                      0, {0.35, 0.35, 0.65, 0.65}, 1.0,
+                      TC_OCCLUDER_BOX, {0.4, 0.4, 0.6, 0.6}, 0.0, 0.15},
+    [TC_SCENE_STIFF] = {"stiff", "as penumbra with the occluder at h 1e-4: penumbrae 3e-5 wide, steep slivers",
+                        0, {0.35, 0.35, 0.65, 0.65}, 1.0,
+                        TC_OCCLUDER_SQUARE, {0.32, 0.37, 0.62, 0.67}, 1e-4, 1e-4},
 };
 
 const char *tc_scene_name(tc_scene_id id) {

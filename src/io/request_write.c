@@ -1,0 +1,184 @@
+/* request_write.c — writes a mesh description as a request (DESIGN.md §3): the
+ * scene front-end's output, readable by tc_request_parse to the same doubles. */
+#include "io/request_write.h"
+
+/* ",\n" before every member but the first, then "name":. */
+static void member(tc_strbuf *b, const char *name) {
+    if (b->len && b->buf[b->len - 1] != '{') tc_strbuf_puts(b, ",\n");
+    tc_strbuf_json_string(b, name);
+    tc_strbuf_putc(b, ':');
+}
+
+/* The separator before element i of an array whose elements go one per line. */
+static void item(tc_strbuf *b, size_t i) { tc_strbuf_puts(b, i ? ",\n " : "\n "); }
+
+static void numbers(tc_strbuf *b, const double *x, int n) {
+    tc_strbuf_putc(b, '[');
+    for (int i = 0; i < n; i++) {
+        if (i) tc_strbuf_putc(b, ',');
+        tc_strbuf_double(b, x[i]);
+    }
+    tc_strbuf_putc(b, ']');
+}
+
+static void ints(tc_strbuf *b, const int32_t *x, int n) {
+    tc_strbuf_putc(b, '[');
+    for (int i = 0; i < n; i++) {
+        if (i) tc_strbuf_putc(b, ',');
+        tc_strbuf_int(b, x[i]);
+    }
+    tc_strbuf_putc(b, ']');
+}
+
+/* One sample of C channels: a plain number when C == 1, else [z1..zC]. */
+static void sample(tc_strbuf *b, const double *z, int nc) {
+    if (nc == 1) tc_strbuf_double(b, z[0]);
+    else numbers(b, z, nc);
+}
+
+/* One tangent datum of dim numbers per channel: one vector when C == 1, else
+ * one per channel. */
+static void vectors(tc_strbuf *b, const double *g, int nc, int dim) {
+    if (nc == 1) {
+        numbers(b, g, dim);
+        return;
+    }
+    tc_strbuf_putc(b, '[');
+    for (int ch = 0; ch < nc; ch++) {
+        if (ch) tc_strbuf_putc(b, ',');
+        numbers(b, g + (size_t)ch * dim, dim);
+    }
+    tc_strbuf_putc(b, ']');
+}
+
+static void geometry(tc_strbuf *b, const tc_mesh_desc *d) {
+    member(b, "vertices");
+    tc_strbuf_putc(b, '[');
+    for (int32_t v = 0; v < d->nverts && !b->oom; v++) item(b, (size_t)v), numbers(b, d->xy + 2 * (size_t)v, 2);
+    tc_strbuf_puts(b, "]");
+    member(b, "triangles");
+    tc_strbuf_putc(b, '[');
+    for (int32_t t = 0; t < d->ntris && !b->oom; t++) item(b, (size_t)t), ints(b, d->tris + 3 * (size_t)t, 3);
+    tc_strbuf_puts(b, "]");
+}
+
+static void values(tc_strbuf *b, const tc_mesh_desc *d) {
+    int nc = d->nchan;
+    member(b, "values");
+    tc_strbuf_putc(b, '[');
+    for (int32_t v = 0; v < d->nverts && !b->oom; v++) item(b, (size_t)v), sample(b, d->values + (size_t)v * nc, nc);
+    tc_strbuf_puts(b, "]");
+    if (!d->ncorner_values) return;
+    member(b, "corner_values");
+    tc_strbuf_putc(b, '[');
+    for (int32_t i = 0; i < d->ncorner_values && !b->oom; i++) {
+        item(b, (size_t)i);
+        tc_strbuf_puts(b, "{\"triangle\":");
+        tc_strbuf_int(b, d->corner_values_tri[i]);
+        tc_strbuf_puts(b, ",\"values\":[");
+        for (int k = 0; k < 3; k++) {
+            if (k) tc_strbuf_putc(b, ',');
+            sample(b, d->corner_values + (3 * (size_t)i + k) * nc, nc);
+        }
+        tc_strbuf_puts(b, "]}");
+    }
+    tc_strbuf_puts(b, "]");
+}
+
+/* "gradients" or "normals": one entry per vertex, null where the mask says absent. */
+static void vertex_vectors(tc_strbuf *b, const char *name, const double *x, const uint8_t *mask,
+                           const tc_mesh_desc *d, int dim) {
+    if (!x) return;
+    member(b, name);
+    tc_strbuf_putc(b, '[');
+    for (int32_t v = 0; v < d->nverts && !b->oom; v++) {
+        item(b, (size_t)v);
+        if (mask && !mask[v]) tc_strbuf_puts(b, "null");
+        else vectors(b, x + (size_t)v * d->nchan * dim, d->nchan, dim);
+    }
+    tc_strbuf_puts(b, "]");
+}
+
+static void corner_gradients(tc_strbuf *b, const tc_mesh_desc *d) {
+    if (!d->ncorner_gradients) return;
+    size_t stride = 2 * (size_t)d->nchan;
+    member(b, "corner_gradients");
+    tc_strbuf_putc(b, '[');
+    for (int32_t i = 0; i < d->ncorner_gradients && !b->oom; i++) {
+        item(b, (size_t)i);
+        tc_strbuf_puts(b, "{\"triangle\":");
+        tc_strbuf_int(b, d->corner_gradients_tri[i]);
+        tc_strbuf_puts(b, ",\"gradients\":[");
+        for (int k = 0; k < 3; k++) {
+            if (k) tc_strbuf_putc(b, ',');
+            if (d->corner_gradients_mask && !d->corner_gradients_mask[3 * (size_t)i + k]) tc_strbuf_puts(b, "null");
+            else vectors(b, d->corner_gradients + (3 * (size_t)i + k) * stride, d->nchan, 2);
+        }
+        tc_strbuf_puts(b, "]}");
+    }
+    tc_strbuf_puts(b, "]");
+}
+
+static void midpoints(tc_strbuf *b, const tc_mesh_desc *d) {
+    if (!d->nmidpoints) return;
+    member(b, "midpoints");
+    tc_strbuf_putc(b, '[');
+    for (int32_t i = 0; i < d->nmidpoints && !b->oom; i++) {
+        item(b, (size_t)i);
+        tc_strbuf_puts(b, "{\"edge\":");
+        ints(b, d->midpoint_edge + 2 * (size_t)i, 2);
+        tc_strbuf_puts(b, ",\"value\":");
+        sample(b, d->midpoint_values + (size_t)i * d->nchan, d->nchan);
+        if (d->midpoint_tri && d->midpoint_tri[i] >= 0) {
+            tc_strbuf_puts(b, ",\"triangle\":");
+            tc_strbuf_int(b, d->midpoint_tri[i]);
+        }
+        tc_strbuf_putc(b, '}');
+    }
+    tc_strbuf_puts(b, "]");
+}
+
+static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int *first) {
+    if (!p->count) return;
+    if (!*first) tc_strbuf_putc(b, ',');
+    *first = 0;
+    tc_strbuf_json_string(b, name);
+    tc_strbuf_putc(b, ':');
+    tc_strbuf_putc(b, '[');
+    for (int32_t i = 0; i < p->count && !b->oom; i++) {
+        item(b, (size_t)i);
+        ints(b, p->verts + p->start[i], p->start[i + 1] - p->start[i]);
+    }
+    tc_strbuf_puts(b, "]");
+}
+
+static void options(tc_strbuf *b, const tc_options *o) {
+    member(b, "method");
+    tc_strbuf_json_string(b, tc_method_name(o->method));
+    member(b, "cross_boundary");
+    tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
+    member(b, "wedges");
+    tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
+    member(b, "tangents");
+    tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
+}
+
+void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
+    tc_strbuf_putc(b, '{');
+    geometry(b, d);
+    values(b, d);
+    vertex_vectors(b, "gradients", d->gradients, d->gradients_mask, d, 2);
+    vertex_vectors(b, "normals", d->normals, d->normals_mask, d, 3);
+    corner_gradients(b, d);
+    midpoints(b, d);
+    if (d->c0.count || d->cm1.count) {
+        int first = 1;
+        member(b, "discontinuities");
+        tc_strbuf_putc(b, '{');
+        polylines(b, "c0", &d->c0, &first);
+        polylines(b, "c-1", &d->cm1, &first);
+        tc_strbuf_putc(b, '}');
+    }
+    if (o) options(b, o);
+    tc_strbuf_puts(b, "}\n");
+}

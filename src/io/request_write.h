@@ -1,0 +1,19 @@
+/* request_write.h — the inverse of request.h: a tc_mesh_desc (and options) as a
+ * complete JSON request in the DESIGN.md §3 format, every number exact. */
+#ifndef TC_IO_REQUEST_WRITE_H
+#define TC_IO_REQUEST_WRITE_H
+
+#include "io/strbuf.h"
+#include "tocher.h"
+
+/* Appends one JSON object followed by a newline: "vertices", "triangles",
+ * "values" (plain numbers when there is one channel), then whichever of
+ * "corner_values", "gradients", "normals", "corner_gradients", "midpoints"
+ * (with "triangle" when a sample belongs to one side) and "discontinuities"
+ * the description has (entries a mask marks absent are null), then "method",
+ * "cross_boundary", "wedges" and "tangents" when o is not NULL. Numbers go
+ * through tc_strbuf_double, so tc_request_parse reads back the same doubles.
+ * Allocation failure is left in b->oom. */
+void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o);
+
+#endif
