@@ -6,6 +6,7 @@
 
 #include "image/image.h"
 #include "io/api.h"
+#include "io/jsonout.h"
 #include "io/request.h"
 #include "io/response.h"
 
@@ -300,23 +301,8 @@ int tc_api_render(const char *body, size_t len, const char *accept, const tc_api
 /* ---- /v1/compare ---- */
 
 static void compare_member_number(tc_strbuf *b, const char *name, double x) {
-    tc_strbuf_putc(b, ',');
-    tc_strbuf_json_string(b, name);
-    tc_strbuf_putc(b, ':');
+    tc_json_key(b, ",", name);
     tc_strbuf_double(b, x);
-}
-
-static void compare_options(tc_strbuf *b, const tc_options *o) {
-    tc_strbuf_puts(b, "{\"method\":");
-    tc_strbuf_json_string(b, tc_method_name(o->method));
-    if (o->method == TC_METHOD_CLOUGH_TOCHER || o->method == TC_METHOD_CLOUGH_TOCHER_C1) {
-        tc_strbuf_puts(b, ",\"cross_boundary\":");
-        tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
-        tc_strbuf_puts(b, ",\"wedges\":");
-        tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
-        tc_strbuf_puts(b, ",\"tangents\":");
-        tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
-    }
 }
 
 /* One method: build it, compare it at the reference points, write its entry. */
@@ -326,7 +312,8 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
     tc_recon *r = NULL;
     tc_diags dg;
     tc_diags_init(&dg);
-    compare_options(b, o);
+    tc_strbuf_putc(b, '{');
+    tc_json_options(b, o);
     double t_build = tc_api_now_ms();
     int st = tc_recon_new(j->mesh, o, &r, &dg);
     double build_ms = tc_api_now_ms() - t_build;

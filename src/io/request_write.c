@@ -1,52 +1,32 @@
 /* request_write.c — writes a mesh description as a request (DESIGN.md §3): the
  * scene front-end's output, readable by tc_request_parse to the same doubles. */
 #include "io/request_write.h"
+#include "io/jsonout.h"
 
 /* ",\n" before every member but the first, then "name":. */
-static void member(tc_strbuf *b, const char *name) {
-    if (b->len && b->buf[b->len - 1] != '{') tc_strbuf_puts(b, ",\n");
-    tc_strbuf_json_string(b, name);
-    tc_strbuf_putc(b, ':');
-}
+static void member(tc_strbuf *b, const char *name) { tc_json_key(b, ",\n", name); }
 
 /* The separator before element i of an array whose elements go one per line. */
 static void item(tc_strbuf *b, size_t i) { tc_strbuf_puts(b, i ? ",\n " : "\n "); }
 
-static void numbers(tc_strbuf *b, const double *x, int n) {
-    tc_strbuf_putc(b, '[');
-    for (int i = 0; i < n; i++) {
-        if (i) tc_strbuf_putc(b, ',');
-        tc_strbuf_double(b, x[i]);
-    }
-    tc_strbuf_putc(b, ']');
-}
-
-static void ints(tc_strbuf *b, const int32_t *x, int n) {
-    tc_strbuf_putc(b, '[');
-    for (int i = 0; i < n; i++) {
-        if (i) tc_strbuf_putc(b, ',');
-        tc_strbuf_int(b, x[i]);
-    }
-    tc_strbuf_putc(b, ']');
-}
 
 /* One sample of C channels: a plain number when C == 1, else [z1..zC]. */
 static void sample(tc_strbuf *b, const double *z, int nc) {
     if (nc == 1) tc_strbuf_double(b, z[0]);
-    else numbers(b, z, nc);
+    else tc_json_numbers(b, z, nc);
 }
 
 /* One tangent datum of dim numbers per channel: one vector when C == 1, else
  * one per channel. */
 static void vectors(tc_strbuf *b, const double *g, int nc, int dim) {
     if (nc == 1) {
-        numbers(b, g, dim);
+        tc_json_numbers(b, g, dim);
         return;
     }
     tc_strbuf_putc(b, '[');
     for (int ch = 0; ch < nc; ch++) {
         if (ch) tc_strbuf_putc(b, ',');
-        numbers(b, g + (size_t)ch * dim, dim);
+        tc_json_numbers(b, g + (size_t)ch * dim, dim);
     }
     tc_strbuf_putc(b, ']');
 }
@@ -54,11 +34,11 @@ static void vectors(tc_strbuf *b, const double *g, int nc, int dim) {
 static void geometry(tc_strbuf *b, const tc_mesh_desc *d) {
     member(b, "vertices");
     tc_strbuf_putc(b, '[');
-    for (int32_t v = 0; v < d->nverts && !b->oom; v++) item(b, (size_t)v), numbers(b, d->xy + 2 * (size_t)v, 2);
+    for (int32_t v = 0; v < d->nverts && !b->oom; v++) item(b, (size_t)v), tc_json_numbers(b, d->xy + 2 * (size_t)v, 2);
     tc_strbuf_puts(b, "]");
     member(b, "triangles");
     tc_strbuf_putc(b, '[');
-    for (int32_t t = 0; t < d->ntris && !b->oom; t++) item(b, (size_t)t), ints(b, d->tris + 3 * (size_t)t, 3);
+    for (int32_t t = 0; t < d->ntris && !b->oom; t++) item(b, (size_t)t), tc_json_ints(b, d->tris + 3 * (size_t)t, 3);
     tc_strbuf_puts(b, "]");
 }
 
@@ -126,7 +106,7 @@ static void midpoints(tc_strbuf *b, const tc_mesh_desc *d) {
     for (int32_t i = 0; i < d->nmidpoints && !b->oom; i++) {
         item(b, (size_t)i);
         tc_strbuf_puts(b, "{\"edge\":");
-        ints(b, d->midpoint_edge + 2 * (size_t)i, 2);
+        tc_json_ints(b, d->midpoint_edge + 2 * (size_t)i, 2);
         tc_strbuf_puts(b, ",\"value\":");
         sample(b, d->midpoint_values + (size_t)i * d->nchan, d->nchan);
         if (d->midpoint_tri && d->midpoint_tri[i] >= 0) {
@@ -147,7 +127,7 @@ static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int
     tc_strbuf_putc(b, '[');
     for (int32_t i = 0; i < p->count && !b->oom; i++) {
         item(b, (size_t)i);
-        ints(b, p->verts + p->start[i], p->start[i + 1] - p->start[i]);
+        tc_json_ints(b, p->verts + p->start[i], p->start[i + 1] - p->start[i]);
     }
     tc_strbuf_puts(b, "]");
 }

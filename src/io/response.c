@@ -1,37 +1,15 @@
 /* response.c — JSON writers for the core's results. Numbers go through
  * tc_strbuf_double so every double parses back to itself. */
 #include "io/response.h"
+#include "io/jsonout.h"
 
-static void member(tc_strbuf *b, const char *name) {
-    if (b->len && b->buf[b->len - 1] != '{') tc_strbuf_putc(b, ',');
-    tc_strbuf_json_string(b, name);
-    tc_strbuf_putc(b, ':');
-}
-
-static void number_array(tc_strbuf *b, const double *x, int n) {
-    tc_strbuf_putc(b, '[');
-    for (int i = 0; i < n; i++) {
-        if (i) tc_strbuf_putc(b, ',');
-        tc_strbuf_double(b, x[i]);
-    }
-    tc_strbuf_putc(b, ']');
-}
+static void member(tc_strbuf *b, const char *name) { tc_json_key(b, ",", name); }
 
 void tc_json_ordinates(tc_strbuf *b, const tc_recon *r) {
     const tc_mesh *m = tc_recon_mesh(r);
-    const tc_options *o = tc_recon_options(r);
     int nc = tc_mesh_channel_count(m), nk = tc_recon_coef_count(r);
     int32_t nt = tc_mesh_triangle_count(m);
-    member(b, "method");
-    tc_strbuf_json_string(b, tc_method_name(o->method));
-    if (o->method == TC_METHOD_CLOUGH_TOCHER || o->method == TC_METHOD_CLOUGH_TOCHER_C1) {
-        member(b, "cross_boundary");
-        tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
-        member(b, "wedges");
-        tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
-        member(b, "tangents");
-        tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
-    }
+    tc_json_options(b, tc_recon_options(r));
     member(b, "channels");
     tc_strbuf_int(b, nc);
     member(b, "labels");
@@ -48,7 +26,7 @@ void tc_json_ordinates(tc_strbuf *b, const tc_recon *r) {
         tc_strbuf_puts(b, t ? ",\n[" : "\n[");
         for (int ch = 0; ch < nc; ch++) {
             if (ch) tc_strbuf_putc(b, ',');
-            number_array(b, coef + ((size_t)t * nc + ch) * nk, nk);
+            tc_json_numbers(b, coef + ((size_t)t * nc + ch) * nk, nk);
         }
         tc_strbuf_putc(b, ']');
     }
@@ -61,13 +39,13 @@ static void point_entry(tc_strbuf *b, const double *x, int nc, int width, int pl
         tc_strbuf_puts(b, "null");
     } else if (plain && nc == 1) {
         if (width == 1) tc_strbuf_double(b, x[0]);
-        else number_array(b, x, width);
+        else tc_json_numbers(b, x, width);
     } else {
         tc_strbuf_putc(b, '[');
         for (int ch = 0; ch < nc; ch++) {
             if (ch) tc_strbuf_putc(b, ',');
             if (width == 1) tc_strbuf_double(b, x[ch]);
-            else number_array(b, x + (size_t)ch * width, width);
+            else tc_json_numbers(b, x + (size_t)ch * width, width);
         }
         tc_strbuf_putc(b, ']');
     }

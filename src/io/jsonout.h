@@ -1,0 +1,20 @@
+/* jsonout.h — the primitives every JSON writer of tocher shares: member keys,
+ * arrays of exact numbers, and the method with the options it ran with. */
+#ifndef TC_IO_JSONOUT_H
+#define TC_IO_JSONOUT_H
+
+#include <stdint.h>
+
+#include "io/strbuf.h"
+#include "tocher.h"
+
+/* `sep` (e.g. "," or ",\n") unless b is empty or ends with '{', then "name":. */
+void tc_json_key(tc_strbuf *b, const char *sep, const char *name);
+/* [x0,x1,...] with every double exact. */
+void tc_json_numbers(tc_strbuf *b, const double *x, int n);
+void tc_json_ints(tc_strbuf *b, const int32_t *x, int n);
+/* "method", and for the cubic methods "cross_boundary", "wedges", "tangents",
+ * as members of the object being written. */
+void tc_json_options(tc_strbuf *b, const tc_options *o);
+
+#endif
