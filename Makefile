@@ -38,9 +38,10 @@ obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 LIB_OBJ  := $(call obj,$(CORE_SRC) $(IO_SRC))
 CLI_OBJ  := $(call obj,$(CLI_SRC))
 SRV_OBJ  := $(call obj,$(SRV_SRC))
+BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit test-peers check run clean
+.PHONY: all deps test test-unit test-peers check run clean report
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -68,6 +69,14 @@ $(BUILD)/tocherd: $(SRV_OBJ) $(BUILD)/libtocher.a
 
 $(BUILD)/test_unit: $(TEST_OBJ) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
+# The error-against-run-time report: docs/report.md and docs/report/ (bench/).
+$(BUILD)/report: $(BENCH_OBJ) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
+report: deps
+	@$(MAKE) --no-print-directory all $(BUILD)/report
+	$(BUILD)/report --out docs --template bench/report.md.in
 
 # Installs what the build and the tests need on Debian 12 (as root, or via sudo).
 deps:
@@ -106,4 +115,4 @@ run: deps
 clean:
 	rm -rf build
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(SRV_OBJ:.o=.d) $(TEST_OBJ:.o=.d)
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(SRV_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(BENCH_OBJ:.o=.d)

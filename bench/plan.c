@@ -1,0 +1,57 @@
+/* plan.c — what the report measures: the one table of reconstruction methods,
+ * the meshes of every scene, and which of them the tables and figures show. */
+#include "plan.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define OPT(m, c, w, t) {TC_METHOD_##m, TC_CROSS_##c, TC_WEDGES_##w, TC_TANGENTS_##t}
+
+/* name, options (method, cross_boundary, wedges, tangents), uses midpoints,
+ * uses gradients, colour, marker, description. */
+const bench_method bench_methods[] = {
+    {"constant", OPT(CONSTANT, NORMAL, CORRECTED, AUTO), 0, 0, "#9a9a9a", MK_DOWN,
+     "one value per triangle (corner mean)"},
+    {"linear", OPT(LINEAR, NORMAL, CORRECTED, AUTO), 0, 0, "#1f5fbf", MK_CIRCLE,
+     "piecewise linear on the mesh (Gouraud)"},
+    {"linear4", OPT(LINEAR4, NORMAL, CORRECTED, AUTO), 1, 0, "#3fa7c9", MK_SQUARE,
+     "linear on the 4-split through the midpoint samples (Salesin's baseline)"},
+    {"clough-tocher", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, MIDPOINTS), 1, 0, "#d62728", MK_CIRCLE,
+     "cubic, flags kept; cross_boundary normal, wedges corrected, tangents from midpoints"},
+    {"ct-salesin", OPT(CLOUGH_TOCHER, SALESIN, CORRECTED, MIDPOINTS), 1, 0, "#ff8c1a", MK_TRIANGLE,
+     "as clough-tocher with cross_boundary salesin"},
+    {"ct-affine", OPT(CLOUGH_TOCHER, AFFINE, CORRECTED, MIDPOINTS), 1, 0, "#e377c2", MK_DIAMOND,
+     "as clough-tocher with cross_boundary affine"},
+    {"ct-literal", OPT(CLOUGH_TOCHER, NORMAL, LITERAL, MIDPOINTS), 1, 0, "#8c564b", MK_SQUARE,
+     "as clough-tocher with wedges literal (Figure 6 as printed)"},
+    {"clough-tocher-c1", OPT(CLOUGH_TOCHER_C1, NORMAL, CORRECTED, MIDPOINTS), 1, 0, "#7b3fb0", MK_CIRCLE,
+     "cubic, C1 everywhere: flags ignored; tangents from midpoints"},
+    {"ct-given", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, GIVEN), 0, 1, "#2ca02c", MK_STAR,
+     "as clough-tocher with tangents given: the scene's corner gradients"},
+    {"ct-estimate", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, ESTIMATE), 0, 0, "#b8930b", MK_PLUS,
+     "as clough-tocher with tangents estimated per wedge: vertex samples only"},
+};
+const int bench_nmethods = (int)(sizeof bench_methods / sizeof bench_methods[0]);
+
+int bench_method_find(const char *name) {
+    for (int i = 0; i < bench_nmethods; i++)
+        if (strcmp(bench_methods[i].name, name) == 0) return i;
+    return -1;
+}
+
+#define DISC(n) {TC_SCENE_MESH_DISC, n, 0, 0}
+#define UNIFORM(n) {TC_SCENE_MESH_UNIFORM, n, 0, 0}
+/* Adaptive: a 4 x 4 start grid split at most 6 times (finest cells 1/256). */
+#define ADAPTIVE(t) {TC_SCENE_MESH_ADAPTIVE, 4, t, 6}
+
+const bench_mesh_spec bench_meshes[] = {
+    DISC(1),     DISC(2),      DISC(4),      DISC(8),        DISC(16),      DISC(32),
+    UNIFORM(4),  UNIFORM(8),   UNIFORM(16),  UNIFORM(32),    UNIFORM(64),   UNIFORM(128), UNIFORM(256),
+    ADAPTIVE(0.4), ADAPTIVE(0.2), ADAPTIVE(0.1), ADAPTIVE(0.05), ADAPTIVE(0.025),
+};
+const int bench_nmeshes = (int)(sizeof bench_meshes / sizeof bench_meshes[0]);
+
+void bench_mesh_label(const bench_mesh_spec *m, char *buf, unsigned n) {
+    if (m->kind == TC_SCENE_MESH_ADAPTIVE) snprintf(buf, n, "adaptive t=%g", m->threshold);
+    else snprintf(buf, n, "%s N=%d", tc_scene_mesh_kind_name(m->kind), m->density);
+}
