@@ -83,6 +83,8 @@ typedef struct {
     const double *xy;             /* [nverts][2] */
     int32_t ntris;
     const int32_t *tris;          /* [ntris][3], either orientation */
+    int32_t nquads;               /* instead of triangles: quads, corners in order */
+    const int32_t *quads;         /*   around each (either orientation), [nquads][4] */
     int32_t nchan;                /* 1 .. TC_MAX_CHANNELS */
     const double *values;         /* [nverts][C] */
 
@@ -94,6 +96,8 @@ typedef struct {
     const uint8_t *gradients_mask;/* [nverts], 0 = not given; NULL = all given */
     const double *normals;        /* [nverts][C][3], N.z > 0, or NULL */
     const uint8_t *normals_mask;  /* [nverts] or NULL */
+    const double *hessians;       /* [nverts][C][3] (fxx, fxy, fyy), or NULL: Hermite twists */
+    const uint8_t *hessians_mask; /* [nverts] or NULL */
 
     int32_t ncorner_gradients;
     const int32_t *corner_gradients_tri; /* [n] */
@@ -141,7 +145,9 @@ typedef enum {
     TC_METHOD_CLOUGH_TOCHER_C1,  /* cubic, C1 everywhere: flags ignored */
     TC_METHOD_LINEAR,            /* piecewise linear on the mesh (Gouraud) */
     TC_METHOD_LINEAR4,           /* linear on the 4-split through the midpoint samples */
-    TC_METHOD_CONSTANT           /* one value per triangle: the corner mean */
+    TC_METHOD_CONSTANT,          /* one value per triangle: the corner mean */
+    TC_METHOD_POWELL_SABIN,      /* C1 quadratic on the 6-split (incenter); C-1 cuts, C0 not honoured */
+    TC_METHOD_HERMITE            /* bicubic Hermite patches over quads (bilinear map) */
 } tc_method;
 
 typedef enum {
@@ -162,11 +168,19 @@ typedef enum {
     TC_TANGENTS_ESTIMATE  /* least squares within each wedge, inputs ignored */
 } tc_tangents;
 
+/* Hermite patches: the cross derivative f_st at each quad corner when the
+ * request gives no second derivatives ("hessians", which always win). */
+typedef enum {
+    TC_TWIST_ESTIMATE = 0, /* from the neighbouring corners' tangent vectors */
+    TC_TWIST_ZERO          /* zero twist */
+} tc_twist;
+
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;
     tc_wedges wedges;
     tc_tangents tangents;
+    tc_twist twist;
 } tc_options;
 
 void tc_options_default(tc_options *o);
@@ -176,11 +190,13 @@ const char *tc_method_name(tc_method m);
 const char *tc_cross_name(tc_cross c);
 const char *tc_wedges_name(tc_wedges w);
 const char *tc_tangents_name(tc_tangents t);
+const char *tc_twist_name(tc_twist t);
 /* Parse a name; returns 0 and sets *out, or -1 if the name is unknown. */
 int tc_method_parse(const char *s, tc_method *out);
 int tc_cross_parse(const char *s, tc_cross *out);
 int tc_wedges_parse(const char *s, tc_wedges *out);
 int tc_tangents_parse(const char *s, tc_tangents *out);
+int tc_twist_parse(const char *s, tc_twist *out);
 
 typedef struct tc_recon tc_recon;
 

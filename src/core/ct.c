@@ -167,8 +167,8 @@ void tc__ct_eval_sub(const double o[TC_CT_ORDINATES], int sub, const double lam[
     grad[1] = (D[1] - D[0]) * dl1[1] + (D[2] - D[0]) * dl2[1];
 }
 
-void tc__ct_eval(const double o[TC_CT_ORDINATES], const double lam[3], const double dl1[2], const double dl2[2],
-                 double *value, double *grad) {
+void tc__ct_eval(const double *o, const tc_at *at, double *value, double *grad) {
+    const double *lam = at->lam;
     int sub = lam[0] <= lam[1] ? (lam[0] <= lam[2] ? 0 : 2) : (lam[1] <= lam[2] ? 1 : 2);
-    tc__ct_eval_sub(o, sub, lam, dl1, dl2, value, grad);
+    tc__ct_eval_sub(o, sub, lam, at->dl1, at->dl2, value, grad);
 }

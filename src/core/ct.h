@@ -3,6 +3,7 @@
 #ifndef TC_CORE_CT_H
 #define TC_CORE_CT_H
 
+#include "core/geom.h"
 #include "core/wedge.h"
 
 /* Ordinate indices in the paper's order. u, v, w are the triangle's vertices
@@ -27,10 +28,8 @@ typedef struct {
 /* Fills coef[nt][nc][19]. Fails only for salesin+literal where Project is singular. */
 int tc__ct_ordinates(const tc_ct_input *in, double *coef, tc_diags *dg);
 
-/* Value and gradient of the piece with ordinates o at barycentric lam, given
- * the gradients dl1, dl2 of lam[1], lam[2]. grad may be NULL. */
-void tc__ct_eval(const double o[TC_CT_ORDINATES], const double lam[3], const double dl1[2], const double dl2[2],
-                 double *value, double *grad);
+/* Value and gradient of the piece with ordinates o at `at`. grad may be NULL. */
+void tc__ct_eval(const double *o, const tc_at *at, double *value, double *grad);
 
 /* Same, on the subtriangle opposite corner `sub` (0..2) whatever lam says:
  * the subtriangle pieces extended, for testing continuity across their edges. */

@@ -6,12 +6,12 @@
 #include "core/recon.h"
 
 void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y, double *value, double *grad) {
-    double lam[3], dl1[2], dl2[2];
+    tc_at at;
     int nc = r->m->nc;
-    tc__bary(r->m, t, x, y, lam, dl1, dl2);
+    tc__at(r->m, t, x, y, &at);
     const double *coef = r->coef + (size_t)t * nc * r->ncoef;
     for (int ch = 0; ch < nc; ch++)
-        r->eval(coef + (size_t)ch * r->ncoef, lam, dl1, dl2, &value[ch], grad ? grad + 2 * ch : NULL);
+        r->eval(coef + (size_t)ch * r->ncoef, &at, &value[ch], grad ? grad + 2 * ch : NULL);
 }
 
 void tc_eval_points(const tc_recon *r, const tc_locator *L, size_t n, const double *xy, double *values,

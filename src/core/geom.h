@@ -50,4 +50,21 @@ static inline void tc__bary(const struct tc_mesh *m, int32_t t, double x, double
     dl2[1] = e1[0] / det;
 }
 
+/* Where a triangle's piece is evaluated: barycentric coordinates in the
+ * triangle (given vertex order), the gradients of lam[1] and lam[2], and the
+ * point relative to the triangle's first corner (for pieces that need the
+ * position itself, such as a bilinear map's inverse). */
+typedef struct {
+    double lam[3];
+    double dl1[2], dl2[2];
+    double d[2];
+} tc_at;
+
+static inline void tc__at(const struct tc_mesh *m, int32_t t, double x, double y, tc_at *at) {
+    const double *p0 = tc__vxy(m, m->tri[3 * (size_t)t]);
+    tc__bary(m, t, x, y, at->lam, at->dl1, at->dl2);
+    at->d[0] = x - p0[0];
+    at->d[1] = y - p0[1];
+}
+
 #endif

@@ -49,9 +49,8 @@ void tc__linear4_build(const struct tc_mesh *m, double *coef, tc_diags *dg) {
                      "%d triangle edge sides have no midpoint sample; linear4 is linear along them", (int)missing);
 }
 
-void tc__constant_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2],
-                       double *value, double *grad) {
-    (void)lam, (void)dl1, (void)dl2;
+void tc__constant_eval(const double *o, const tc_at *at, double *value, double *grad) {
+    (void)at;
     *value = o[0];
     if (grad) grad[0] = grad[1] = 0;
 }
@@ -61,17 +60,16 @@ static void grad_from(const double D[3], const double dl1[2], const double dl2[2
     grad[1] = (D[1] - D[0]) * dl1[1] + (D[2] - D[0]) * dl2[1];
 }
 
-void tc__linear_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2], double *value,
-                     double *grad) {
+void tc__linear_eval(const double *o, const tc_at *at, double *value, double *grad) {
+    const double *lam = at->lam;
     *value = lam[0] * o[0] + lam[1] * o[1] + lam[2] * o[2];
-    if (grad) grad_from(o, dl1, dl2, grad);
+    if (grad) grad_from(o, at->dl1, at->dl2, grad);
 }
 
 /* The 4-split: the corner triangle of corner i where lam[i] >= 1/2, else the
  * middle triangle of the three midpoints. */
-void tc__linear4_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2],
-                      double *value, double *grad) {
-    const double *mid = o + 3; /* mid[k] on edge k = (k, k+1) */
+void tc__linear4_eval(const double *o, const tc_at *at, double *value, double *grad) {
+    const double *lam = at->lam, *mid = o + 3; /* mid[k] on edge k = (k, k+1) */
     double D[3];
     int i = lam[0] >= 0.5 ? 0 : lam[1] >= 0.5 ? 1 : lam[2] >= 0.5 ? 2 : -1;
     if (i >= 0) {
@@ -86,5 +84,5 @@ void tc__linear4_eval(const double *o, const double lam[3], const double dl1[2],
         D[1] = -2 * mid[2];
         D[2] = -2 * mid[0];
     }
-    if (grad) grad_from(D, dl1, dl2, grad);
+    if (grad) grad_from(D, at->dl1, at->dl2, grad);
 }

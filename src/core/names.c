@@ -10,11 +10,14 @@ static const char *const method_names[] = {
     [TC_METHOD_LINEAR] = "linear",
     [TC_METHOD_LINEAR4] = "linear4",
     [TC_METHOD_CONSTANT] = "constant",
+    [TC_METHOD_POWELL_SABIN] = "powell-sabin",
+    [TC_METHOD_HERMITE] = "hermite",
 };
 static const char *const cross_names[] = {
     [TC_CROSS_NORMAL] = "normal", [TC_CROSS_SALESIN] = "salesin", [TC_CROSS_AFFINE] = "affine"};
 static const char *const wedges_names[] = {
     [TC_WEDGES_CORRECTED] = "corrected", [TC_WEDGES_LITERAL] = "literal"};
+static const char *const twist_names[] = {[TC_TWIST_ESTIMATE] = "estimate", [TC_TWIST_ZERO] = "zero"};
 static const char *const tangents_names[] = {
     [TC_TANGENTS_AUTO] = "auto", [TC_TANGENTS_GIVEN] = "given",
     [TC_TANGENTS_MIDPOINTS] = "midpoints", [TC_TANGENTS_ESTIMATE] = "estimate"};
@@ -35,6 +38,7 @@ const char *tc_method_name(tc_method m) { return name_of(method_names, COUNT(met
 const char *tc_cross_name(tc_cross c) { return name_of(cross_names, COUNT(cross_names), (int)c); }
 const char *tc_wedges_name(tc_wedges w) { return name_of(wedges_names, COUNT(wedges_names), (int)w); }
 const char *tc_tangents_name(tc_tangents t) { return name_of(tangents_names, COUNT(tangents_names), (int)t); }
+const char *tc_twist_name(tc_twist t) { return name_of(twist_names, COUNT(twist_names), (int)t); }
 
 #define DEFINE_PARSE(fn, type, table)                                   \
     int fn(const char *s, type *out) {                                  \
@@ -47,10 +51,12 @@ DEFINE_PARSE(tc_method_parse, tc_method, method_names)
 DEFINE_PARSE(tc_cross_parse, tc_cross, cross_names)
 DEFINE_PARSE(tc_wedges_parse, tc_wedges, wedges_names)
 DEFINE_PARSE(tc_tangents_parse, tc_tangents, tangents_names)
+DEFINE_PARSE(tc_twist_parse, tc_twist, twist_names)
 
 void tc_options_default(tc_options *o) {
     o->method = TC_METHOD_CLOUGH_TOCHER;
     o->cross_boundary = TC_CROSS_NORMAL;
     o->wedges = TC_WEDGES_CORRECTED;
     o->tangents = TC_TANGENTS_AUTO;
+    o->twist = TC_TWIST_ESTIMATE;
 }

@@ -118,6 +118,14 @@ static int build(struct tc_recon *r, tc_diags *dg) {
     case TC_METHOD_CLOUGH_TOCHER_C1:
         r->ncoef = TC_CT_ORDINATES, r->labels = tc__ct_labels, r->eval = tc__ct_eval;
         break;
+    case TC_METHOD_POWELL_SABIN: {
+        int st = tc__ps_build(r, dg);
+        return st == TC_OK ? check_bounded(r, dg) : st;
+    }
+    case TC_METHOD_HERMITE: {
+        int st = tc__hermite_build(r, dg);
+        return st == TC_OK ? check_bounded(r, dg) : st;
+    }
     default: return tc_diags_add(dg, TC_SEV_ERROR, "method", "unknown method %d", (int)r->opt.method);
     }
     r->coef = tc__malloc((size_t)m->nt * m->nc, (size_t)r->ncoef * sizeof *r->coef);

@@ -3,12 +3,11 @@
 #ifndef TC_CORE_RECON_H
 #define TC_CORE_RECON_H
 
-#include "core/mesh.h"
+#include "core/geom.h"
 
 /* Value (and gradient if grad != NULL) of one channel of one triangle's piece
- * from its coefficients, at barycentric lam with d(lam1), d(lam2) = dl1, dl2. */
-typedef void (*tc_piece_eval)(const double *coef, const double lam[3], const double dl1[2], const double dl2[2],
-                              double *value, double *grad);
+ * from its coefficients, at the point described by `at`. */
+typedef void (*tc_piece_eval)(const double *coef, const tc_at *at, double *value, double *grad);
 
 struct tc_recon {
     const struct tc_mesh *m;
@@ -27,11 +26,13 @@ extern const char *const tc__linear4_labels[6];
 void tc__constant_build(const struct tc_mesh *m, double *coef);
 void tc__linear_build(const struct tc_mesh *m, double *coef);
 void tc__linear4_build(const struct tc_mesh *m, double *coef, tc_diags *dg);
-void tc__constant_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2], double *value,
-                       double *grad);
-void tc__linear_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2], double *value,
-                     double *grad);
-void tc__linear4_eval(const double *o, const double lam[3], const double dl1[2], const double dl2[2], double *value,
-                      double *grad);
+void tc__constant_eval(const double *o, const tc_at *at, double *value, double *grad);
+void tc__linear_eval(const double *o, const tc_at *at, double *value, double *grad);
+void tc__linear4_eval(const double *o, const tc_at *at, double *value, double *grad);
+
+/* powell_sabin.c and hermite.c: each fills r->ncoef, r->labels, r->eval and
+ * r->coef (allocating it) for its method. */
+int tc__ps_build(struct tc_recon *r, tc_diags *dg);
+int tc__hermite_build(struct tc_recon *r, tc_diags *dg);
 
 #endif

@@ -344,7 +344,8 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
 
 int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
     static const tc_method every[] = {TC_METHOD_CLOUGH_TOCHER, TC_METHOD_CLOUGH_TOCHER_C1, TC_METHOD_LINEAR,
-                                      TC_METHOD_LINEAR4, TC_METHOD_CONSTANT};
+                                      TC_METHOD_LINEAR4, TC_METHOD_CONSTANT, TC_METHOD_POWELL_SABIN,
+                                      TC_METHOD_HERMITE};
     double t0 = tc_api_now_ms();
     job j = {0};
     int rs = tc_request_parse(body, len, TC_REQ_MESH | TC_REQ_REFERENCE, &j.req, &res->diags);

@@ -59,7 +59,7 @@ static double reproduction_error(const tc_recon *rec, tfunc f, int npts, trng *r
 }
 
 static tc_recon *make(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan) {
-    tc_options o = {method, cross, wedges, tan};
+    tc_options o = {method, cross, wedges, tan, TC_TWIST_ESTIMATE};
     tc_recon *r = NULL;
     tc_diags dg;
     tc_diags_init(&dg);
