@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#define OPT(m, c, w, t) {TC_METHOD_##m, TC_CROSS_##c, TC_WEDGES_##w, TC_TANGENTS_##t}
+#define OPT(m, c, w, t) {TC_METHOD_##m, TC_CROSS_##c, TC_WEDGES_##w, TC_TANGENTS_##t, TC_TWIST_ESTIMATE}
 
 /* name, options (method, cross_boundary, wedges, tangents), uses midpoints,
  * uses gradients, colour, marker, description. */
