@@ -32,7 +32,6 @@ typedef struct {
     int queued; /* a response is queued: what follows is for the log and metrics */
     int status;
     size_t bytes;
-    int64_t triangles, pixels;
 } request;
 
 /* libmicrohttpd 0.9.75 cannot queue a response in the middle of an upload, so
@@ -153,7 +152,8 @@ static enum MHD_Result send_reply(const tc_http_state *st, struct MHD_Connection
     }
     if (ok == MHD_YES) {
         q->queued = 1, q->status = status, q->bytes = len;
-        q->triangles = r->res.triangles, q->pixels = r->res.pixels;
+        tc_metrics_answered(q->route_index, status, (tc_api_now_ms() - q->t0) * 1e-3, r->res.triangles,
+                            r->res.pixels);
     }
     tc_reply_free(r);
     return ok;
@@ -283,6 +283,6 @@ void tc_http_completed(void *cls, struct MHD_Connection *c, void **req_cls, enum
     *req_cls = NULL;
     double ms = tc_api_now_ms() - q->t0;
     tc_log_request(q->method, q->path, q->status, q->bytes, ms, ending(toe));
-    tc_metrics_end(q->route_index, q->status, ms * 1e-3, q->triangles, q->pixels);
+    tc_metrics_end(q->route_index, q->queued);
     request_free(q);
 }

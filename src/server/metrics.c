@@ -40,16 +40,21 @@ long tc_metrics_in_flight(void) { return atomic_load(&in_flight); }
 
 static int slot_of(int route) { return route >= 0 && route < nroutes ? route : TC_METRICS_MAX_ROUTES; }
 
-void tc_metrics_end(int route, int status, double seconds, int64_t triangles, int64_t pixels) {
+/* Counted when the answer is queued, before the client can read it: a client
+ * that has its answer and then reads /metrics always finds it counted. */
+void tc_metrics_answered(int route, int status, double seconds, int64_t triangles, int64_t pixels) {
     int s = slot_of(route);
     if (status >= STATUS_MIN && status <= STATUS_MAX) add(&by_status[s][status - STATUS_MIN], 1);
-    else add(&aborted[s], 1);
     int b = 0;
     while (b < NB && seconds > bounds[b]) b++;
     add(&buckets[s][b], 1);
     add(&sum_ns[s], seconds > 0 ? (unsigned long long)(seconds * 1e9) : 0);
     if (triangles > 0) add(&triangles_total, (unsigned long long)triangles);
     if (pixels > 0) add(&pixels_total, (unsigned long long)pixels);
+}
+
+void tc_metrics_end(int route, int answered) {
+    if (!answered) add(&aborted[slot_of(route)], 1);
     /* Last, so that a drain waiting for zero sees the request fully accounted. */
     atomic_fetch_sub(&in_flight, 1);
 }
@@ -77,7 +82,7 @@ static void write_requests(tc_strbuf *o) {
 
 static void write_histogram(tc_strbuf *o) {
     const char *h = "tocher_http_request_duration_seconds";
-    header(o, h, "histogram", "Time from the request headers to the end of the answer.");
+    header(o, h, "histogram", "Time from the request headers to the answer being queued.");
     for (int s = 0; s < SLOTS; s++) {
         if (!slot_used(s)) continue;
         unsigned long long cum = 0;

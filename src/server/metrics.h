@@ -16,7 +16,11 @@ void tc_metrics_init(const char *const *route_labels, int n);
 /* A request arrived / finished. route: a slot, or -1 for no route; status: the
  * status answered, or 0 if the connection ended before an answer. Thread-safe. */
 void tc_metrics_begin(void);
-void tc_metrics_end(int route, int status, double seconds, int64_t triangles, int64_t pixels);
+/* A request's answer was queued: its status, latency (first byte to queued
+ * answer), and the triangles and pixels it processed. */
+void tc_metrics_answered(int route, int status, double seconds, int64_t triangles, int64_t pixels);
+/* A request is over, answered or not (then counted as aborted). */
+void tc_metrics_end(int route, int answered);
 
 /* Requests begun and not yet ended. */
 long tc_metrics_in_flight(void);
