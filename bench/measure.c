@@ -127,6 +127,23 @@ static double build_batch(const tc_mesh *m, const tc_options *o, int reps) {
     return (bench_now_ms() - t0) / reps;
 }
 
+/* Corner j of entry k of the scene's corner gradients: the corner id (3t + c)
+ * of the core's triangles that holds its plane (a quad mesh is held as its
+ * split, quad q = triangles 2q = (a, b, c) and 2q+1 = (a, c, d)), its vertex
+ * and the two vertices along its element's own edges. Returns the corners per entry. */
+static int entry_corner(const tc_mesh_desc *d, int32_t k, int j, int32_t *cid, int32_t v[3]) {
+    int32_t e = d->corner_gradients_tri[k];
+    if (d->ntris > 0) {
+        const int32_t *tv = d->tris + 3 * (size_t)e;
+        *cid = 3 * e + j, v[0] = tv[j], v[1] = tv[(j + 1) % 3], v[2] = tv[(j + 2) % 3];
+        return 3;
+    }
+    static const int split[4] = {0, 1, 2, 5};
+    const int32_t *qv = d->quads + 4 * (size_t)e;
+    *cid = 6 * e + split[j], v[0] = qv[j], v[1] = qv[(j + 1) % 4], v[2] = qv[(j + 3) % 4];
+    return 4;
+}
+
 /* The corner tangent planes r used against the scene mesh's corner gradients.
  * The corner reported is the one whose plane error moves a Bezier ordinate the
  * most: uuv = z_u + g_u . (v - u) / 3, so the ordinate error is
@@ -139,14 +156,14 @@ static void tangent_error(const tc_recon *r, const tc_scene_mesh *sm, bench_resu
     double sum2 = 0;
     int64_t n = 0;
     for (int32_t k = 0; k < d->ncorner_gradients; k++) {
-        int32_t t = d->corner_gradients_tri[k];
-        const int32_t *tv = d->tris + 3 * (size_t)t;
-        for (int c = 0; c < 3; c++) {
-            const double *gs = d->corner_gradients + 6 * (size_t)k + 2 * c, *gu = used + 6 * (size_t)t + 2 * c;
-            const double *p = d->xy + 2 * (size_t)tv[c];
+        int32_t cid, v[3];
+        for (int c = 0, nk = entry_corner(d, k, 0, &cid, v); c < nk; c++) {
+            entry_corner(d, k, c, &cid, v);
+            const double *gs = d->corner_gradients + 2 * ((size_t)nk * k + c), *gu = used + 2 * (size_t)cid;
+            const double *p = d->xy + 2 * (size_t)v[0];
             double dg[2] = {gu[0] - gs[0], gu[1] - gs[1]}, e = hypot(dg[0], dg[1]), moved = 0;
             for (int j = 1; j <= 2; j++) {
-                const double *q = d->xy + 2 * (size_t)tv[(c + j) % 3];
+                const double *q = d->xy + 2 * (size_t)v[j];
                 moved = fmax(moved, fabs(dg[0] * (q[0] - p[0]) + dg[1] * (q[1] - p[1])) / 3);
             }
             sum2 += e * e, n++;
@@ -184,7 +201,8 @@ int bench_measure_begin(const bench_reference *ref, const tc_scene_mesh *sm, int
     memset(pend, 0, sizeof *pend);
     pend->method = method;
     out->method = method;
-    out->nverts = sm->desc.nverts, out->ntris = sm->desc.ntris;
+    out->nverts = sm->desc.nverts; /* a quad version: its split triangles, the same cells */
+    out->ntris = sm->desc.ntris > 0 ? sm->desc.ntris : 2 * sm->desc.nquads;
     out->flagged_c0 = sm->flagged_c0, out->flagged_cm1 = sm->flagged_cm1;
     out->worst_aspect = sm->worst_aspect;
     out->samples = bench_method_samples(sm, bm);

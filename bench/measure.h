@@ -37,7 +37,8 @@ typedef struct {
 int64_t bench_method_samples(const tc_scene_mesh *sm, const bench_method *bm);
 int64_t bench_method_gradient_samples(const tc_scene_mesh *sm, const bench_method *bm);
 
-/* Gives bm what it uses of sm (midpoints and gradients stripped otherwise), then
+/* Gives bm what it uses of sm (midpoints and gradients stripped otherwise; sm
+ * is the quad version of the mesh for a method that runs on quads), then
  * tc_mesh_new, tc_locator_new (their time in *mesh_ms when not NULL) and one
  * tc_recon_new. 0, or -1 with the reason in note (nothing left allocated). */
 int bench_prepare(const tc_scene_mesh *sm, const bench_method *bm, bench_prepared *p, double *mesh_ms, char *note,

@@ -6,30 +6,38 @@
 #include <string.h>
 
 #define OPT(m, c, w, t) {TC_METHOD_##m, TC_CROSS_##c, TC_WEDGES_##w, TC_TANGENTS_##t, TC_TWIST_ESTIMATE}
+#define OPT_TWIST(m, t, tw) {TC_METHOD_##m, TC_CROSS_NORMAL, TC_WEDGES_CORRECTED, TC_TANGENTS_##t, TC_TWIST_##tw}
 
-/* name, options (method, cross_boundary, wedges, tangents), uses midpoints,
- * uses gradients, colour, marker, description. */
+/* name, options (method, cross_boundary, wedges, tangents[, twist]), uses
+ * midpoints, uses gradients, runs on quads, colour, marker, description. */
 const bench_method bench_methods[] = {
-    {"constant", OPT(CONSTANT, NORMAL, CORRECTED, AUTO), 0, 0, "#9a9a9a", MK_DOWN,
+    {"constant", OPT(CONSTANT, NORMAL, CORRECTED, AUTO), 0, 0, 0, "#9a9a9a", MK_DOWN,
      "one value per triangle (corner mean)"},
-    {"linear", OPT(LINEAR, NORMAL, CORRECTED, AUTO), 0, 0, "#1f5fbf", MK_CIRCLE,
+    {"linear", OPT(LINEAR, NORMAL, CORRECTED, AUTO), 0, 0, 0, "#1f5fbf", MK_CIRCLE,
      "piecewise linear on the mesh (Gouraud)"},
-    {"linear4", OPT(LINEAR4, NORMAL, CORRECTED, AUTO), 1, 0, "#3fa7c9", MK_SQUARE,
+    {"linear4", OPT(LINEAR4, NORMAL, CORRECTED, AUTO), 1, 0, 0, "#3fa7c9", MK_SQUARE,
      "linear on the 4-split through the midpoint samples (Salesin's baseline)"},
-    {"clough-tocher", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, MIDPOINTS), 1, 0, "#d62728", MK_CIRCLE,
+    {"clough-tocher", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0, "#d62728", MK_CIRCLE,
      "cubic, flags kept; cross_boundary normal, wedges corrected, tangents from midpoints"},
-    {"ct-salesin", OPT(CLOUGH_TOCHER, SALESIN, CORRECTED, MIDPOINTS), 1, 0, "#ff8c1a", MK_TRIANGLE,
+    {"ct-salesin", OPT(CLOUGH_TOCHER, SALESIN, CORRECTED, MIDPOINTS), 1, 0, 0, "#ff8c1a", MK_TRIANGLE,
      "as clough-tocher with cross_boundary salesin"},
-    {"ct-affine", OPT(CLOUGH_TOCHER, AFFINE, CORRECTED, MIDPOINTS), 1, 0, "#e377c2", MK_DIAMOND,
+    {"ct-affine", OPT(CLOUGH_TOCHER, AFFINE, CORRECTED, MIDPOINTS), 1, 0, 0, "#e377c2", MK_DIAMOND,
      "as clough-tocher with cross_boundary affine"},
-    {"ct-literal", OPT(CLOUGH_TOCHER, NORMAL, LITERAL, MIDPOINTS), 1, 0, "#8c564b", MK_SQUARE,
+    {"ct-literal", OPT(CLOUGH_TOCHER, NORMAL, LITERAL, MIDPOINTS), 1, 0, 0, "#8c564b", MK_SQUARE,
      "as clough-tocher with wedges literal (Figure 6 as printed)"},
-    {"clough-tocher-c1", OPT(CLOUGH_TOCHER_C1, NORMAL, CORRECTED, MIDPOINTS), 1, 0, "#7b3fb0", MK_CIRCLE,
+    {"clough-tocher-c1", OPT(CLOUGH_TOCHER_C1, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0, "#7b3fb0", MK_CIRCLE,
      "cubic, C1 everywhere: flags ignored; tangents from midpoints"},
-    {"ct-given", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, GIVEN), 0, 1, "#2ca02c", MK_STAR,
+    {"ct-given", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, GIVEN), 0, 1, 0, "#2ca02c", MK_STAR,
      "as clough-tocher with tangents given: the scene's corner gradients"},
-    {"ct-estimate", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, ESTIMATE), 0, 0, "#b8930b", MK_PLUS,
+    {"ct-estimate", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, ESTIMATE), 0, 0, 0, "#b8930b", MK_PLUS,
      "as clough-tocher with tangents estimated per wedge: vertex samples only"},
+    {"powell-sabin", OPT(POWELL_SABIN, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0, "#17becf", MK_CROSS,
+     "C1 quadratic on the 6-split (incenter); C-1 cuts, C0 read as C1; tangents from midpoints"},
+    {"hermite", OPT_TWIST(HERMITE, MIDPOINTS, ESTIMATE), 1, 0, 1, "#000000", MK_SQUARE,
+     "bicubic Hermite patches on the quad version of the mesh (one quad per cell); flags kept, "
+     "tangents from midpoints (diagonals included), twist estimated from the neighbouring planes"},
+    {"hermite-zero-twist", OPT_TWIST(HERMITE, MIDPOINTS, ZERO), 1, 0, 1, "#6b6b6b", MK_DIAMOND,
+     "as hermite with twist zero (only the bilinear map's own g . x_st)"},
 };
 const int bench_nmethods = (int)(sizeof bench_methods / sizeof bench_methods[0]);
 

@@ -9,13 +9,15 @@
 /* Plot markers (svg.h draws them). */
 typedef enum { MK_NONE = 0, MK_CIRCLE, MK_SQUARE, MK_TRIANGLE, MK_DIAMOND, MK_DOWN, MK_PLUS, MK_CROSS, MK_STAR } bench_marker;
 
-/* One reconstruction the report compares. A new method (powell-sabin,
- * hermite, ...) is one more line of bench_methods[] in plan.c. */
+/* One reconstruction the report compares. A new method is one more line of
+ * bench_methods[] in plan.c. */
 typedef struct {
     const char *name;     /* label in tables, plots and results.csv */
     tc_options opt;       /* what tc_recon_new is asked for */
     int midpoints;        /* uses the edge-midpoint samples (counted in its samples) */
     int gradients;        /* uses the corner gradients (counted as gradient samples) */
+    int quads;            /* runs on the quad version of the mesh (the same cells, one
+                           * quad each; disc and uniform meshes only) */
     const char *color;    /* plot colour */
     bench_marker marker;  /* plot marker */
     const char *what;     /* one line for the report's method table */

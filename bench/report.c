@@ -77,6 +77,19 @@ static int mesh_wanted(const args *a, const bench_mesh_spec *m) {
     return m->kind == TC_SCENE_MESH_ADAPTIVE || m->density <= a->max_density;
 }
 
+/* The quad version of a disc or uniform mesh (same cells, one quad each) for
+ * the methods that run on quads; NULL with the reason in note otherwise. */
+static tc_scene_mesh *quad_version(const tc_scene *s, tc_scene_mesh_opts o, char *note, size_t n) {
+    tc_scene_mesh *q = NULL;
+    int need = 0;
+    for (int m = 0; m < bench_nmethods; m++) need |= bench_methods[m].quads;
+    o.quads = 1;
+    const char *why = tc_scene_mesh_opts_check(&o);
+    int st = !need || why ? TC_EINVAL : tc_scene_mesh_new(s, &o, &q);
+    if (st != TC_OK) snprintf(note, n, "needs a quad mesh: %s", why ? why : "tc_scene_mesh_new failed");
+    return q;
+}
+
 /* Every method on one mesh of one scene. Returns -1 only when out of memory. */
 static int measure_mesh(bench_results *rs, const bench_reference *ref, int mesh, const char *figdir, int *images_ok) {
     const tc_scene *s = ref->scene;
@@ -89,21 +102,35 @@ static int measure_mesh(bench_results *rs, const bench_reference *ref, int mesh,
     if (spec->kind == TC_SCENE_MESH_ADAPTIVE) o.threshold = spec->threshold, o.max_depth = spec->max_depth;
     for (int m = 0; m < bench_nmethods; m++) o.gradients |= bench_methods[m].gradients;
     double t0 = bench_now_ms();
-    tc_scene_mesh *sm = NULL;
+    tc_scene_mesh *sm = NULL, *sq = NULL;
+    char qnote[200] = "";
     int st = tc_scene_mesh_new(s, &o, &sm);
+    if (st == TC_OK) sq = quad_version(s, o, qnote, sizeof qnote);
     double gen_ms = bench_now_ms() - t0;
     int first = rs->n;
     for (int m = 0; m < bench_nmethods; m++) {
         bench_result *r = bench_results_add(rs);
-        if (!r) return -1;
+        if (!r) {
+            tc_scene_mesh_free(sm), tc_scene_mesh_free(sq);
+            return -1;
+        }
         r->scene = (int)s->id, r->mesh = mesh, r->method = m;
         if (st != TC_OK) snprintf(r->note, sizeof r->note, "tc_scene_mesh_new failed with status %d", st);
     }
     bench_pending pend[BENCH_MAX_METHODS];
-    for (int m = 0; st == TC_OK && m < bench_nmethods; m++)
-        if (bench_measure_begin(ref, sm, m, &rs->r[first + m], &pend[m]) != 0)
+    for (int m = 0; st == TC_OK && m < bench_nmethods; m++) {
+        const tc_scene_mesh *use = bench_methods[m].quads ? sq : sm;
+        int ok = use != NULL;
+        if (!ok) { /* a pair that cannot run: skipped with the reason, like a refusal */
+            memset(&pend[m], 0, sizeof pend[m]);
+            snprintf(rs->r[first + m].note, sizeof rs->r[first + m].note, "%s", qnote);
+        } else {
+            ok = bench_measure_begin(ref, use, m, &rs->r[first + m], &pend[m]) == 0;
+        }
+        if (!ok)
             fprintf(stderr, "          %s %s %s: skipped: %s\n", tc_scene_name(s->id), label, bench_methods[m].name,
                     rs->r[first + m].note);
+    }
     for (int round = 0; st == TC_OK && round < BENCH_ROUNDS; round++)
         for (int m = 0; m < bench_nmethods; m++) bench_measure_round(ref, &pend[m], round);
     for (int m = 0; st == TC_OK && m < bench_nmethods; m++) bench_measure_end(&pend[m], &rs->r[first + m]);
@@ -120,6 +147,7 @@ static int measure_mesh(bench_results *rs, const bench_reference *ref, int mesh,
     if (spec->kind == TC_SCENE_MESH_DISC && spec->density == BENCH_FIG_DENSITY)
         if (bench_images_write(s, sm, figdir) != 0) *images_ok = 0;
     tc_scene_mesh_free(sm);
+    tc_scene_mesh_free(sq);
     return 0;
 }
 

@@ -77,7 +77,18 @@ typedef struct {
 
 /* Everything a front-end sends. All arrays are caller-owned and only read during
  * tc_mesh_new. Optional arrays are NULL (and their counts 0) when absent.
- * "C" below is nchan; per-corner data follows the triangle's vertex order as given. */
+ * "C" below is nchan; per-corner data follows the triangle's vertex order as given.
+ *
+ * Quad meshes: give nquads/quads instead of ntris/tris (both at once is an
+ * error). Quad q = (a, b, c, d) becomes triangles 2q = (a, b, c) and
+ * 2q+1 = (a, c, d), split along the diagonal a-c, so every triangle method
+ * runs on it unchanged. On a quad mesh the per-corner entries name quads, not
+ * triangles: corner_values_tri[i] and corner_gradients_tri[i] are quad indices
+ * with corner_values [n][4][C], corner_gradients [n][4][C][2] and
+ * corner_gradients_mask [n][4] in the quad's corner order, and midpoint_tri[i]
+ * names the quad whose side the sample belongs to. Midpoint samples may lie on
+ * a diagonal (the triangle methods use them there); discontinuity polylines may
+ * not (the diagonal is not an edge of the quad mesh). */
 typedef struct {
     int32_t nverts;
     const double *xy;             /* [nverts][2] */
@@ -89,8 +100,8 @@ typedef struct {
     const double *values;         /* [nverts][C] */
 
     int32_t ncorner_values;       /* per-corner value overrides (C-1 edges) */
-    const int32_t *corner_values_tri;   /* [n] */
-    const double *corner_values;        /* [n][3][C] */
+    const int32_t *corner_values_tri;   /* [n] triangle (quad on a quad mesh) */
+    const double *corner_values;        /* [n][3][C] ([n][4][C] on a quad mesh) */
 
     const double *gradients;      /* [nverts][C][2] or NULL */
     const uint8_t *gradients_mask;/* [nverts], 0 = not given; NULL = all given */
@@ -100,13 +111,14 @@ typedef struct {
     const uint8_t *hessians_mask; /* [nverts] or NULL */
 
     int32_t ncorner_gradients;
-    const int32_t *corner_gradients_tri; /* [n] */
-    const double *corner_gradients;      /* [n][3][C][2] */
-    const uint8_t *corner_gradients_mask;/* [n][3], 0 = corner not given; NULL = all */
+    const int32_t *corner_gradients_tri; /* [n] triangle (quad on a quad mesh) */
+    const double *corner_gradients;      /* [n][3][C][2] ([n][4][C][2] on a quad mesh) */
+    const uint8_t *corner_gradients_mask;/* [n][3] ([n][4]), 0 = corner not given; NULL = all */
 
     int32_t nmidpoints;           /* extra samples at edge midpoints */
     const int32_t *midpoint_edge; /* [n][2] vertex indices */
-    const int32_t *midpoint_tri;  /* [n]: the side it belongs to, -1 = both; NULL = all -1 */
+    const int32_t *midpoint_tri;  /* [n]: the side it belongs to (a triangle, or a quad on a
+                                   * quad mesh), -1 = both; NULL = all -1 */
     const double *midpoint_values;/* [n][C] */
 
     tc_polylines c0;              /* derivative discontinuities (kinks) */
@@ -124,7 +136,12 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags);
 void tc_mesh_free(tc_mesh *m);
 
 int32_t tc_mesh_vertex_count(const tc_mesh *m);
+/* On a quad mesh: 2 x the quad count (the split triangles, see tc_mesh_desc). */
 int32_t tc_mesh_triangle_count(const tc_mesh *m);
+/* The quads as given ([count][4]); 0 and NULL for a mesh given as triangles.
+ * Quad q is triangles 2q and 2q+1 of tc_mesh_triangles. */
+int32_t tc_mesh_quad_count(const tc_mesh *m);
+const int32_t *tc_mesh_quads(const tc_mesh *m);
 int tc_mesh_channel_count(const tc_mesh *m);
 const double *tc_mesh_xy(const tc_mesh *m);        /* [nverts][2] */
 const int32_t *tc_mesh_triangles(const tc_mesh *m);/* [ntris][3] as given */
@@ -168,11 +185,13 @@ typedef enum {
     TC_TANGENTS_ESTIMATE  /* least squares within each wedge, inputs ignored */
 } tc_tangents;
 
-/* Hermite patches: the cross derivative f_st at each quad corner when the
- * request gives no second derivatives ("hessians", which always win). */
+/* Hermite patches: the cross derivative f_st = x_s' H x_t + g . x_st at each
+ * quad corner (x the quad's bilinear map, g the corner's tangent plane) when the
+ * request gives no second derivatives H ("hessians", which always win). */
 typedef enum {
-    TC_TWIST_ESTIMATE = 0, /* from the neighbouring corners' tangent vectors */
-    TC_TWIST_ZERO          /* zero twist */
+    TC_TWIST_ESTIMATE = 0, /* H per wedge from the neighbouring corners' tangent planes
+                            * (least squares; limited where the mesh does not resolve it) */
+    TC_TWIST_ZERO          /* H = 0: f_st = g . x_st, zero on parallelograms */
 } tc_twist;
 
 typedef struct {
@@ -209,7 +228,17 @@ const tc_options *tc_recon_options(const tc_recon *r);
  * methods (labels uuu vvv www uuv uuw uvv uww vvw vww cuu cvv cww ccu ccv ccw cuv
  * cuw cvw ccc, u = the triangle's first vertex as given), 3 corner values for
  * linear (u v w), 6 for linear4 (u v w, then the midpoints uv vw wu), 1 for
- * constant (mean). */
+ * constant (mean). hermite: 22 per split triangle, the same for both triangles
+ * of a quad (a, b, c, d): the bicubic Bézier ordinates b00 .. b33 of its patch
+ * (b_ij at index 4i + j, label "bij"; i counts along s from a to b, j along t
+ * from a to d; b00 = f(a), b30 = f(b), b33 = f(c), b03 = f(d)), then the
+ * corners b, c, d relative to a, the triangle's first corner (xb yb xc yc xd yd),
+ * which define the bilinear map x(s, t) = a + s(b-a) + t(d-a) + st(a-b+c-d).
+ * powell-sabin: 25 — u v w; u:uv v:uv v:vw w:vw w:wu u:wu (the quadratic Bézier
+ * ordinates halfway from a corner to an edge's split point); uv vw wu (the split
+ * points); u:z v:z w:z and z:uv z:vw z:wu (halfway to the incenter z); z; then the
+ * split geometry: zeta_u zeta_v zeta_w (z's barycentrics) and alpha_uv alpha_vw
+ * alpha_wu (each split point's position along its edge, wu running from w to u). */
 int tc_recon_coef_count(const tc_recon *r);
 const char *tc_recon_coef_label(const tc_recon *r, int i);
 const double *tc_recon_coefs(const tc_recon *r); /* [ntris][C][count] */

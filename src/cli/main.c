@@ -22,8 +22,9 @@ static const char usage[] =
     "  render MESH.json [-o OUT]                 an image tile of the \"viewport\" in MESH.json\n"
     "  compare MESH.json [-o OUT]                each method's error against \"reference\" samples\n"
     "  scene NAME [--mesh disc|uniform|adaptive] [--density N] [--gradients]\n"
-    "        [--no-midpoints] [--threshold T] [--depth D] [-o OUT]\n"
+    "        [--no-midpoints] [--threshold T] [--depth D] [--quads] [-o OUT]\n"
     "                                            a reference scene meshed and sampled, as MESH.json\n"
+    "                                            (--quads: one quad per cell, method hermite)\n"
     "  scene --list                              the reference scenes\n"
     "  version                                   print the version\n"
     "  help                                      this text\n"
@@ -205,6 +206,7 @@ static int scene_option(int argc, char **argv, int *i, tc_scene_mesh_opts *o, co
             v = argv[++*i];
         }
     if (!strcmp(a, "--gradients")) o->gradients = 1;
+    else if (!strcmp(a, "--quads")) o->quads = 1;
     else if (!strcmp(a, "--no-midpoints")) o->midpoints = 0;
     else if (!strcmp(a, "--mesh") && tc_scene_mesh_kind_parse(v, &o->kind)) {
         list_known("mesh kind", v, kind_name_of, 3);
@@ -229,7 +231,7 @@ static int scene_list(void) {
 }
 
 /* `tocher scene NAME ...`: the scene's mesh and samples as a request (method
- * clough-tocher), ready for `tocher ordinates` or the daemon. */
+ * clough-tocher, or hermite with --quads), ready for `tocher ordinates` or the daemon. */
 static int scene_command(int argc, char **argv) {
     tc_scene_mesh_opts o;
     const char *name = NULL, *out = NULL;
@@ -247,13 +249,15 @@ static int scene_command(int argc, char **argv) {
     tc_scene_init(&s, id);
     int st = tc_scene_mesh_new(&s, &o, &m);
     if (st != TC_OK) {
+        const char *why = tc_scene_mesh_opts_check(&o);
         fprintf(stderr, "tocher: scene %s: %s\n", name, st == TC_ELIMIT ? "the mesh would exceed 2^24 triangles" :
-                        st == TC_ENOMEM ? "out of memory" : "invalid options");
+                        st == TC_ENOMEM ? "out of memory" : why ? why : "invalid options");
         return st == TC_ENOMEM ? EXIT_INTERNAL : EXIT_INPUT;
     }
     tc_options opt;
     tc_strbuf b;
     tc_options_default(&opt);
+    if (o.quads) opt.method = TC_METHOD_HERMITE; /* what a quad mesh is for; triangle methods read it too */
     tc_strbuf_init(&b);
     tc_json_request(&b, &m->desc, &opt);
     int rc = b.oom ? EXIT_INTERNAL : write_out(out, &b);

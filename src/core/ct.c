@@ -6,6 +6,7 @@
 
 #include "core/ct.h"
 #include "core/geom.h"
+#include "core/internal.h"
 #include "core/plane.h"
 
 const char *const tc__ct_labels[TC_CT_ORDINATES] = {
@@ -108,7 +109,7 @@ static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef
                 o[CIJ[k]] = cab_linear(o, k, (k + 1) % 3, g->tau[k]);
             } else if (cab_salesin(x, t, k, ch, g, o, &o[CIJ[k]]) < 0) {
                 char path[48];
-                snprintf(path, sizeof path, "triangles[%d]", (int)t);
+                tc__elem_path(m, t, path, sizeof path);
                 if (x->wedges == TC_WEDGES_LITERAL)
                     return tc_diags_add(dg, TC_SEV_ERROR, path,
                                         "cross_boundary \"salesin\" with wedges \"literal\": Project is singular on "

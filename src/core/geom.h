@@ -3,6 +3,7 @@
 #ifndef TC_CORE_GEOM_H
 #define TC_CORE_GEOM_H
 
+#include <float.h>
 #include <math.h>
 
 #include "core/mesh.h"
@@ -21,6 +22,14 @@ static inline double tc__dot(const double a[2], const double b[2]) {
 static inline void tc__sub(double out[2], const double a[2], const double b[2]) {
     out[0] = a[0] - b[0];
     out[1] = a[1] - b[1];
+}
+
+/* Triangle (p0, p1, p2) has non-zero area: |(p1-p0) x (p2-p0)| above
+ * 16 eps |p1-p0| |p2-p0|, i.e. relative to the two edges from p0, so slivers of
+ * any aspect ratio pass while the sign of their area is above rounding. */
+static inline int tc__nonzero_area(const double p0[2], const double p1[2], const double p2[2]) {
+    double e1[2] = {p1[0] - p0[0], p1[1] - p0[1]}, e2[2] = {p2[0] - p0[0], p2[1] - p0[1]};
+    return fabs(e1[0] * e2[1] - e1[1] * e2[0]) > 16 * DBL_EPSILON * hypot(e1[0], e1[1]) * hypot(e2[0], e2[1]);
 }
 
 /* Directions a and b (from a common vertex) point in opposite directions on

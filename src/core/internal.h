@@ -31,6 +31,27 @@ static inline int tc__corner_of(const struct tc_mesh *m, int32_t t, int32_t v) {
     return tv[0] == v ? 0 : tv[1] == v ? 1 : tv[2] == v ? 2 : -1;
 }
 
+/* ---- quads.c ---- */
+/* Checks the description's quads (indices, distinct corners, strict
+ * convexity, repeats; errors at "quads[q]") and splits them into m->tri. */
+int tc__quads_split(struct tc_mesh *m, const tc_mesh_desc *desc, tc_diags *d);
+/* The request element a triangle came from, for messages: its JSON path
+ * ("triangles[t]", or "quads[q]" for a split triangle of quad q), its word
+ * ("triangle", "quad") and index (t, or q). Every error about a triangle
+ * names it through these, so a quad mesh's errors name what the caller sent. */
+void tc__elem_path(const struct tc_mesh *m, int32_t t, char *buf, size_t n);
+const char *tc__elem_word(const struct tc_mesh *m);
+static inline int32_t tc__elem_index(const struct tc_mesh *m, int32_t t) { return m->nq ? t / 2 : t; }
+/* Corner k of triangle t as a corner of its element (k, or the quad corner). */
+static inline int tc__elem_corner(const struct tc_mesh *m, int32_t t, int k) {
+    return m->nq ? tc__quad_corner_of(t, k) : k;
+}
+/* Edge id e (3t+k) is the diagonal a-c of a split quad. */
+static inline int tc__is_diagonal(const struct tc_mesh *m, int32_t e) {
+    int32_t t = e / 3, k = e % 3;
+    return m->nq > 0 && k == (t % 2 == 0 ? 2 : 0);
+}
+
 /* ---- samples.c ---- */
 /* Corner values, given tangent planes and midpoint samples. */
 int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *desc, tc_diags *d);

@@ -1,7 +1,6 @@
 /* mesh.c — tc_mesh: a validated copy of a front-end's mesh description.
  * Builds in phases (geometry, topology, flags, samples); each phase collects
  * every error it finds, and a phase runs only if the ones before it passed. */
-#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -13,12 +12,15 @@ void tc_mesh_free(tc_mesh *m) {
     if (!m) return;
     free(m->xy);
     free(m->tri);
+    free(m->quad);
     free(m->orient);
     free(m->cz);
     free(m->cg);
     free(m->cg_has);
     free(m->mid);
     free(m->mid_has);
+    free(m->hess);
+    free(m->hess_has);
     free(m->nbr);
     free(m->nbr_k);
     free(m->flag);
@@ -31,8 +33,11 @@ static int check_sizes(const tc_mesh_desc *d, tc_diags *dg) {
     int st = TC_OK;
     if (d->nverts < 1 || !d->xy)
         st = tc_diags_add(dg, TC_SEV_ERROR, "vertices", "the mesh has no vertices");
-    if (d->ntris < 1 || !d->tris)
-        st = tc_diags_add(dg, TC_SEV_ERROR, "triangles", "the mesh has no triangles");
+    int tris = d->ntris > 0 && d->tris, quads = d->nquads > 0 && d->quads;
+    if (tris && quads)
+        st = tc_diags_add(dg, TC_SEV_ERROR, "quads", "give either triangles or quads, not both");
+    else if (!tris && !quads)
+        st = tc_diags_add(dg, TC_SEV_ERROR, "triangles", "the mesh has no triangles (nor quads)");
     if (d->nchan < 1 || d->nchan > TC_MAX_CHANNELS)
         st = tc_diags_add(dg, TC_SEV_ERROR, "values", "%d channels; 1 to %d are supported",
                           (int)d->nchan, TC_MAX_CHANNELS);
@@ -70,27 +75,32 @@ static int check_triangle(const tc_mesh_desc *d, int32_t t, tc_diags *dg) {
         return tc_diags_add(dg, TC_SEV_ERROR, path, "degenerate triangle: a vertex appears twice in [%d, %d, %d]",
                             (int)v[0], (int)v[1], (int)v[2]);
     const double *p0 = d->xy + 2 * (size_t)v[0], *p1 = d->xy + 2 * (size_t)v[1], *p2 = d->xy + 2 * (size_t)v[2];
-    double e1[2], e2[2];
-    tc__sub(e1, p1, p0);
-    tc__sub(e2, p2, p0);
-    double det = tc__cross(e1, e2), scale = hypot(e1[0], e1[1]) * hypot(e2[0], e2[1]);
-    if (!(fabs(det) > 16 * DBL_EPSILON * scale))
+    if (!tc__nonzero_area(p0, p1, p2))
         return tc_diags_add(dg, TC_SEV_ERROR, path, "zero-area triangle: vertices %d, %d, %d are collinear or coincide",
                             (int)v[0], (int)v[1], (int)v[2]);
     return TC_OK;
 }
 
-static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+/* The triangles as given, or the quads checked and split (quads.c). */
+static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    if (m->nq) return tc__quads_split(m, d, dg);
     int st = TC_OK;
     for (int32_t t = 0; t < d->ntris; t++)
         if (check_triangle(d, t, dg) != TC_OK) st = TC_EINVAL;
     if (st != TC_OK) return st;
-    m->xy = tc__malloc((size_t)m->nv * 2, sizeof *m->xy);
     m->tri = tc__malloc((size_t)m->nt * 3, sizeof *m->tri);
-    m->orient = tc__malloc((size_t)m->nt, sizeof *m->orient);
-    if (!m->xy || !m->tri || !m->orient) return TC_ENOMEM;
-    memcpy(m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
+    if (!m->tri) return TC_ENOMEM;
     memcpy(m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
+    return TC_OK;
+}
+
+static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    int st = copy_elements(m, d, dg);
+    if (st != TC_OK) return st;
+    m->xy = tc__malloc((size_t)m->nv * 2, sizeof *m->xy);
+    m->orient = tc__malloc((size_t)m->nt, sizeof *m->orient);
+    if (!m->xy || !m->orient) return TC_ENOMEM;
+    memcpy(m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
     for (int32_t t = 0; t < m->nt; t++) {
         const int32_t *v = m->tri + 3 * (size_t)t;
         double e1[2], e2[2];
@@ -108,16 +118,18 @@ static void warn_unused(const struct tc_mesh *m, tc_diags *dg) {
         if (m->vstart[v] == m->vstart[v + 1]) {
             char path[48];
             snprintf(path, sizeof path, "vertices[%d]", (int)v);
-            tc_diags_add(dg, TC_SEV_WARNING, path, "vertex %d is used by no triangle", (int)v);
+            tc_diags_add(dg, TC_SEV_WARNING, path, "vertex %d is used by no %s", (int)v, m->nq ? "quad" : "triangle");
         }
 }
 
 static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     int st = check_sizes(d, dg);
     if (st != TC_OK) return st;
-    if (d->ntris > INT32_MAX / 3 - 1 || d->nverts > INT32_MAX - 1) return TC_ELIMIT;
+    if (d->ntris > INT32_MAX / 3 - 1 || d->nquads > INT32_MAX / 6 - 1 || d->nverts > INT32_MAX - 1)
+        return TC_ELIMIT;
     m->nv = d->nverts;
-    m->nt = d->ntris;
+    m->nq = d->ntris > 0 ? 0 : d->nquads;
+    m->nt = m->nq ? 2 * m->nq : d->ntris;
     m->nc = d->nchan;
     if ((st = check_finite_xy(d, dg)) != TC_OK) return st;
     if ((st = copy_geometry(m, d, dg)) != TC_OK) return st;
@@ -146,6 +158,8 @@ int32_t tc_mesh_triangle_count(const tc_mesh *m) { return m->nt; }
 int tc_mesh_channel_count(const tc_mesh *m) { return m->nc; }
 const double *tc_mesh_xy(const tc_mesh *m) { return m->xy; }
 const int32_t *tc_mesh_triangles(const tc_mesh *m) { return m->tri; }
+int32_t tc_mesh_quad_count(const tc_mesh *m) { return m->nq; }
+const int32_t *tc_mesh_quads(const tc_mesh *m) { return m->quad; }
 
 const double *tc_mesh_corner_value(const tc_mesh *m, int32_t t, int k) {
     return m->cz + (3 * (size_t)t + (size_t)k) * (size_t)m->nc;

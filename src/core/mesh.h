@@ -6,7 +6,12 @@
 #include "tocher.h"
 
 /* Corner (t, k) has id 3t+k. Edge k of triangle t joins corners k and (k+1)%3.
+ * A quad mesh (nq > 0) is held as its split triangles: quad q = (a, b, c, d)
+ * is triangle 2q = (a, b, c) and 2q+1 = (a, c, d), so its diagonal a-c is edge 2
+ * of 2q and edge 0 of 2q+1, and both triangles start at a.
  * Invariants once tc_mesh_new returns TC_OK:
+ *  - nq > 0: nt == 2 nq, every quad strictly convex with distinct corners, and
+ *    no quad repeated; the diagonals are interior C1 edges, never flagged;
  *  - every triangle has non-zero area (relative to its edge lengths), distinct
  *    vertices, and appears once;
  *  - every edge has at most two triangles; nbr/nbr_k are mutual
@@ -21,11 +26,15 @@ struct tc_mesh {
     int32_t *tri;       /* [nt][3] as given */
     int8_t *orient;     /* [nt] +1 counter-clockwise, -1 clockwise */
     double *cz;         /* [nt][3][nc] corner values */
+    int32_t nq;         /* quads as given, or 0 for a mesh given as triangles */
+    int32_t *quad;      /* [nq][4] as given, or NULL */
 
     double *cg;         /* [nt][3][nc][2] given tangent gradients, or NULL */
     uint8_t *cg_has;    /* [3nt] 1 where cg holds a given gradient, or NULL */
     double *mid;        /* [nt][3][nc] midpoint sample of edge k, or NULL */
     uint8_t *mid_has;   /* [3nt] 1 where mid holds a sample, or NULL */
+    double *hess;       /* [nv][nc][3] given second derivatives (fxx, fxy, fyy), or NULL */
+    uint8_t *hess_has;  /* [nv] 1 where hess holds one, or NULL */
 
     int32_t *nbr;       /* [3nt] triangle across edge k, -1 on the boundary */
     int8_t *nbr_k;      /* [3nt] that triangle's index of the same edge */
@@ -35,6 +44,24 @@ struct tc_mesh {
     int32_t nflagged;   /* interior edges flagged C0 or C-1 */
     int32_t ncorner_overrides; /* corners whose value differs from the vertex value */
 };
+
+/* Quad corner k (0..3) lands on corner (k == 3 ? 2 : k) of triangle 2q, and
+ * corners 0 and 2 also on corners 0 and 1 of triangle 2q+1. Returns how many
+ * corner ids went to out (1 or 2). */
+static inline int tc__quad_corners(int32_t q, int k, int32_t out[2]) {
+    int32_t t0 = 3 * (2 * q), t1 = 3 * (2 * q + 1);
+    static const int8_t first[4] = {0, 1, 2, -1}, second[4] = {0, -1, 1, 2};
+    int n = 0;
+    if (first[k] >= 0) out[n++] = t0 + first[k];
+    if (second[k] >= 0) out[n++] = t1 + second[k];
+    return n;
+}
+
+/* The inverse: the quad corner (0..3) that corner k of split triangle t is. */
+static inline int tc__quad_corner_of(int32_t t, int k) {
+    static const int8_t of_second[3] = {0, 2, 3};
+    return t % 2 == 0 ? k : of_second[k];
+}
 
 static inline const double *tc__vxy(const struct tc_mesh *m, int32_t v) { return m->xy + 2 * (size_t)v; }
 static inline int32_t tc__cv(const struct tc_mesh *m, int32_t corner) { return m->tri[corner]; }

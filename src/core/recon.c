@@ -19,10 +19,11 @@ void tc_recon_free(tc_recon *r) {
 
 /* Without flags every wedge is bounded by the mesh boundary only; corner
  * values that differ inside one wedge (C-1 data) are replaced by their mean,
- * so the C1 baseline really is continuous there. NULL: use the mesh's values. */
+ * so the C1 baseline really is continuous there. NULL: use the mesh's values
+ * (also whenever C-1 edges delimit wedges: values agree inside each wedge). */
 static double *merged_values(const struct tc_mesh *m, const tc_wedge_set *ws, int *st) {
     *st = TC_OK;
-    if (ws->honor_flags || m->ncorner_overrides == 0) return NULL;
+    if (ws->honor_flags != TC_HONOR_NONE || m->ncorner_overrides == 0) return NULL;
     int nc = m->nc;
     double *cz = tc__malloc(3 * (size_t)m->nt * nc, sizeof *cz);
     if (!cz) {
@@ -54,10 +55,12 @@ static void ct_scratch_free(ct_scratch *s) {
     free(s->wp);
 }
 
-static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
+/* Wedges delimited per `honor` (TC_HONOR_*) -> corner inputs -> wedge planes;
+ * fills r->cgrad and leaves the intermediate steps in s. */
+static int ct_planes(struct tc_recon *r, int honor, ct_scratch *s, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
     size_t stride = 2 * (size_t)m->nc;
-    int st = tc__wedges_build(m, r->opt.method == TC_METHOD_CLOUGH_TOCHER, &s->ws);
+    int st = tc__wedges_build(m, honor, &s->ws);
     if (st != TC_OK) return st;
     s->cz_own = merged_values(m, &s->ws, &st);
     if (st != TC_OK) return st;
@@ -73,10 +76,19 @@ static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     return TC_OK;
 }
 
+int tc__recon_planes(struct tc_recon *r, int honor, tc_diags *dg) {
+    ct_scratch s;
+    memset(&s, 0, sizeof s);
+    int st = ct_planes(r, honor, &s, dg);
+    ct_scratch_free(&s);
+    return st;
+}
+
 static int build_ct(struct tc_recon *r, tc_diags *dg) {
     ct_scratch s;
     memset(&s, 0, sizeof s);
-    int st = ct_planes(r, &s, dg);
+    int honor = r->opt.method == TC_METHOD_CLOUGH_TOCHER ? TC_HONOR_ALL : TC_HONOR_NONE;
+    int st = ct_planes(r, honor, &s, dg);
     if (st == TC_OK) {
         tc_ct_input x = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->cgrad, s.in,
                          r->opt.cross_boundary, r->opt.wedges};
@@ -99,7 +111,7 @@ static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
             double c = r->coef[(size_t)t * per_tri + i];
             if (isfinite(c) && fabs(c) <= TC_COEF_MAX) continue;
             char path[48];
-            snprintf(path, sizeof path, "triangles[%d]", (int)t);
+            tc__elem_path(r->m, t, path, sizeof path);
             return tc_diags_add(dg, TC_SEV_ERROR, path,
                                 "the reconstruction overflows here (ordinate %s = %g): the tangent planes at its corners "
                                 "are too steep for its size, or its values too large",
@@ -140,6 +152,19 @@ static int build(struct tc_recon *r, tc_diags *dg) {
     return st == TC_OK ? check_bounded(r, dg) : st;
 }
 
+/* A method that formats "triangles[t]" itself on a quad mesh would name an
+ * element the caller never sent: the findings this build added are renamed to
+ * "quads[t/2]" (the rest of the path kept), so every path is the request's. */
+static void quad_paths(const struct tc_mesh *m, tc_diags *dg, int from) {
+    for (int i = from; m->nq && dg && i < dg->count; i++) {
+        char *p = dg->items[i].path, renamed[2 * sizeof dg->items[i].path];
+        int t, n = 0;
+        if (sscanf(p, "triangles[%d]%n", &t, &n) != 1 || n == 0 || t < 0) continue;
+        int len = snprintf(renamed, sizeof renamed, "quads[%d]%s", t / 2, p + n);
+        if (len > 0 && (size_t)len < sizeof dg->items[i].path) memcpy(p, renamed, (size_t)len + 1); /* shorter */
+    }
+}
+
 int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags *diags) {
     *out = NULL;
     struct tc_recon *r = calloc(1, sizeof *r);
@@ -147,7 +172,9 @@ int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags
     r->m = m;
     if (o) r->opt = *o;
     else tc_options_default(&r->opt);
+    int from = diags ? diags->count : 0;
     int st = build(r, diags);
+    quad_paths(m, diags, from);
     if (st != TC_OK) {
         tc_recon_free(r);
         return st;

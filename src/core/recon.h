@@ -4,6 +4,7 @@
 #define TC_CORE_RECON_H
 
 #include "core/geom.h"
+#include "core/wedge.h"
 
 /* Value (and gradient if grad != NULL) of one channel of one triangle's piece
  * from its coefficients, at the point described by `at`. */
@@ -34,5 +35,18 @@ void tc__linear4_eval(const double *o, const tc_at *at, double *value, double *g
  * r->coef (allocating it) for its method. */
 int tc__ps_build(struct tc_recon *r, tc_diags *dg);
 int tc__hermite_build(struct tc_recon *r, tc_diags *dg);
+
+/* recon.c: the cubic methods' tangent-plane pipeline (wedges delimited per
+ * `honor`, a TC_HONOR_* of wedge.h -> corner inputs per r->opt.tangents ->
+ * wedge planes) for other methods: fills r->cgrad (allocating it). Corner
+ * values are the mesh's, so `honor` must not be TC_HONOR_NONE on C-1 data. */
+int tc__recon_planes(struct tc_recon *r, int honor, tc_diags *dg);
+
+/* powell_sabin.c: TC_PS_COEFS coefficients per triangle and channel (layout
+ * there), and piece p (0..5) of the 6-split extended to any point, for tests:
+ * piece 2k + h lies on edge k, next to its corner k (h = 0) or k+1 (h = 1). */
+enum { TC_PS_COEFS = 25 };
+void tc__ps_eval_piece(const double *coef, int piece, const double lam[3], const double dl1[2], const double dl2[2],
+                       double *value, double *grad);
 
 #endif

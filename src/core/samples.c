@@ -7,6 +7,28 @@
 
 #include "core/internal.h"
 
+/* Per-corner entries name elements: triangles (3 corners), or on a quad mesh
+ * quads (4 corners, each landing on one or two split-triangle corners). */
+static int elem_corners(const struct tc_mesh *m) { return m->nq ? 4 : 3; }
+static int32_t elem_count(const struct tc_mesh *m) { return m->nq ? m->nq : m->nt; }
+
+/* The corner ids (3t+k) where corner k of element e lands; returns 1 or 2. */
+static int landing(const struct tc_mesh *m, int32_t e, int k, int32_t out[2]) {
+    if (m->nq) return tc__quad_corners(e, k, out);
+    out[0] = 3 * e + k;
+    return 1;
+}
+
+/* "corner_values[3].triangle: triangle index 9 out of range (4 triangles)", or
+ * the same with quads. */
+static int check_elem(const struct tc_mesh *m, const char *field, int32_t i, int32_t e, tc_diags *dg) {
+    if (e >= 0 && e < elem_count(m)) return TC_OK;
+    char path[64];
+    const char *w = tc__elem_word(m);
+    snprintf(path, sizeof path, "%s[%d].%s", field, (int)i, w);
+    return tc_diags_add(dg, TC_SEV_ERROR, path, "%s index %d out of range (%d %ss)", w, (int)e, (int)elem_count(m), w);
+}
+
 /* Scratch shared by the steps: which corner_values entry set each corner
  * (for error paths) and the value scale of each channel (for tolerances). */
 typedef struct {
@@ -20,8 +42,24 @@ static int check_finite(const double *x, size_t n, const char *path, tc_diags *d
     return TC_OK;
 }
 
+/* Entry i of corner_values (already checked) onto the corners of element e. */
+static void put_corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, int32_t i, int32_t e,
+                              const double *z) {
+    int nc = m->nc;
+    for (int k = 0; k < elem_corners(m); k++) {
+        int32_t cs[2];
+        for (int n = landing(m, e, k, cs), j = 0; j < n; j++) {
+            size_t c = (size_t)cs[j];
+            s->cv_src[c] = i;
+            memcpy(m->cz + c * nc, z + (size_t)k * nc, (size_t)nc * sizeof *m->cz);
+            if (memcmp(z + (size_t)k * nc, d->values + (size_t)m->tri[c] * nc, (size_t)nc * sizeof *z))
+                m->ncorner_overrides++;
+        }
+    }
+}
+
 static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
-    int nc = m->nc, st = TC_OK;
+    int nc = m->nc, st = TC_OK, nk = elem_corners(m);
     char path[64];
     for (int32_t v = 0; v < m->nv; v++) {
         snprintf(path, sizeof path, "values[%d]", (int)v);
@@ -37,31 +75,25 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
     if (!s->cv_src) return TC_ENOMEM;
     for (size_t c = 0; c < 3 * (size_t)m->nt; c++) s->cv_src[c] = -1;
     for (int32_t i = 0; i < d->ncorner_values; i++) {
-        int32_t t = d->corner_values_tri[i];
-        const double *z = d->corner_values + (size_t)i * 3 * nc;
-        snprintf(path, sizeof path, "corner_values[%d].triangle", (int)i);
-        if (t < 0 || t >= m->nt) {
-            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle index %d out of range (%d triangles)", (int)t,
-                              (int)m->nt);
-            continue;
-        }
-        if (s->cv_src[3 * (size_t)t] >= 0) {
-            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle %d already has corner values (corner_values[%d])",
-                              (int)t, (int)s->cv_src[3 * (size_t)t]);
-            continue;
-        }
-        snprintf(path, sizeof path, "corner_values[%d].values", (int)i);
-        if (check_finite(z, 3 * (size_t)nc, path, dg) != TC_OK) {
+        int32_t e = d->corner_values_tri[i], c0[2];
+        const double *z = d->corner_values + (size_t)i * nk * nc;
+        if (check_elem(m, "corner_values", i, e, dg) != TC_OK) {
             st = TC_EINVAL;
             continue;
         }
-        for (int k = 0; k < 3; k++) {
-            size_t c = 3 * (size_t)t + (size_t)k;
-            s->cv_src[c] = i;
-            memcpy(m->cz + c * nc, z + (size_t)k * nc, (size_t)nc * sizeof *m->cz);
-            if (memcmp(z + (size_t)k * nc, d->values + (size_t)m->tri[c] * nc, (size_t)nc * sizeof *z))
-                m->ncorner_overrides++;
+        landing(m, e, 0, c0); /* every element's corner 0 lands on its own first triangle */
+        if (s->cv_src[c0[0]] >= 0) {
+            snprintf(path, sizeof path, "corner_values[%d].%s", (int)i, tc__elem_word(m));
+            st = tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d already has corner values (corner_values[%d])",
+                              tc__elem_word(m), (int)e, (int)s->cv_src[c0[0]]);
+            continue;
         }
+        snprintf(path, sizeof path, "corner_values[%d].values", (int)i);
+        if (check_finite(z, (size_t)nk * nc, path, dg) != TC_OK) {
+            st = TC_EINVAL;
+            continue;
+        }
+        put_corner_values(m, d, s, i, e, z);
     }
     return st;
 }
@@ -125,38 +157,45 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
     return st;
 }
 
-static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
-    int nc = m->nc, st = TC_OK;
-    size_t stride = 2 * (size_t)nc;
+/* Corner k of corner_gradients entry i onto the corners of element e. */
+static int put_corner_gradient(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t e, int k, tc_diags *dg) {
+    int nk = elem_corners(m);
+    size_t stride = 2 * (size_t)m->nc;
+    if (d->corner_gradients_mask && !d->corner_gradients_mask[(size_t)nk * i + k]) return TC_OK;
+    const double *g = d->corner_gradients + ((size_t)nk * i + k) * stride;
     char path[64];
-    int32_t *seen = d->ncorner_gradients ? tc__malloc((size_t)m->nt, sizeof *seen) : NULL;
+    snprintf(path, sizeof path, "corner_gradients[%d].gradients[%d]", (int)i, k);
+    if (check_finite(g, stride, path, dg) != TC_OK) return TC_EINVAL;
+    int32_t cs[2];
+    for (int n = landing(m, e, k, cs), j = 0; j < n; j++) {
+        memcpy(m->cg + (size_t)cs[j] * stride, g, stride * sizeof *g);
+        m->cg_has[cs[j]] = 1;
+    }
+    return TC_OK;
+}
+
+static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    int st = TC_OK;
+    int32_t ne = elem_count(m);
+    char path[64];
+    int32_t *seen = d->ncorner_gradients ? tc__malloc((size_t)ne, sizeof *seen) : NULL;
     if (d->ncorner_gradients && !seen) return TC_ENOMEM;
-    for (int32_t t = 0; seen && t < m->nt; t++) seen[t] = -1;
+    for (int32_t e = 0; seen && e < ne; e++) seen[e] = -1;
     for (int32_t i = 0; i < d->ncorner_gradients; i++) {
-        int32_t t = d->corner_gradients_tri[i];
-        snprintf(path, sizeof path, "corner_gradients[%d].triangle", (int)i);
-        if (t < 0 || t >= m->nt) {
-            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle index %d out of range (%d triangles)", (int)t,
-                              (int)m->nt);
+        int32_t e = d->corner_gradients_tri[i];
+        if (check_elem(m, "corner_gradients", i, e, dg) != TC_OK) {
+            st = TC_EINVAL;
             continue;
         }
-        if (seen[t] >= 0) {
-            st = tc_diags_add(dg, TC_SEV_ERROR, path, "triangle %d already has corner gradients (corner_gradients[%d])",
-                              (int)t, (int)seen[t]);
+        if (seen[e] >= 0) {
+            snprintf(path, sizeof path, "corner_gradients[%d].%s", (int)i, tc__elem_word(m));
+            st = tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d already has corner gradients (corner_gradients[%d])",
+                              tc__elem_word(m), (int)e, (int)seen[e]);
             continue;
         }
-        seen[t] = i;
-        for (int k = 0; k < 3; k++) {
-            if (d->corner_gradients_mask && !d->corner_gradients_mask[3 * (size_t)i + k]) continue;
-            const double *g = d->corner_gradients + (3 * (size_t)i + k) * stride;
-            snprintf(path, sizeof path, "corner_gradients[%d].gradients[%d]", (int)i, k);
-            if (check_finite(g, stride, path, dg) != TC_OK) {
-                st = TC_EINVAL;
-                continue;
-            }
-            memcpy(m->cg + (3 * (size_t)t + k) * stride, g, stride * sizeof *g);
-            m->cg_has[3 * (size_t)t + k] = 1;
-        }
+        seen[e] = i;
+        for (int k = 0; k < elem_corners(m); k++)
+            if (put_corner_gradient(m, d, i, e, k, dg) != TC_OK) st = TC_EINVAL;
     }
     free(seen);
     return st;
@@ -184,6 +223,34 @@ static int put_midpoint(struct tc_mesh *m, int32_t *src, size_t c, int32_t i, co
     return TC_OK;
 }
 
+/* The edge side (3t+k) of triangle t joining a and b, or -1. */
+static int32_t side_in(const struct tc_mesh *m, int32_t t, int32_t a, int32_t b) {
+    int ka = tc__corner_of(m, t, a), kb = tc__corner_of(m, t, b);
+    if (ka < 0 || kb < 0) return -1;
+    return 3 * t + (kb == (ka + 1) % 3 ? ka : kb);
+}
+
+/* A sample that names its side (element e): the edge side in each of e's
+ * triangles that has the edge — one, or both halves of a quad for a sample on
+ * its own diagonal (both sides of which are that quad). */
+static int put_named(struct tc_mesh *m, int32_t *src, int32_t e, int32_t a, int32_t b, int32_t i, const double *z,
+                     tc_diags *dg) {
+    char path[64];
+    int st = TC_OK, found = 0;
+    snprintf(path, sizeof path, "midpoints[%d]", (int)i);
+    int32_t first = m->nq ? 2 * e : e, halves = e >= elem_count(m) ? 0 : m->nq ? 2 : 1; /* past the end: none */
+    for (int32_t t = first; t < first + halves; t++) {
+        int32_t c = side_in(m, t, a, b);
+        if (c < 0) continue;
+        found = 1;
+        if (put_midpoint(m, src, (size_t)c, i, z, path, dg) != TC_OK) st = TC_EINVAL;
+    }
+    if (found) return st;
+    snprintf(path, sizeof path, "midpoints[%d].%s", (int)i, tc__elem_word(m));
+    return tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d does not have edge [%d, %d]", tc__elem_word(m), (int)e, (int)a,
+                        (int)b);
+}
+
 static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t *src, tc_diags *dg) {
     int32_t a = d->midpoint_edge[2 * (size_t)i], b = d->midpoint_edge[2 * (size_t)i + 1];
     int32_t t = d->midpoint_tri ? d->midpoint_tri[i] : -1;
@@ -198,21 +265,8 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
     snprintf(path, sizeof path, "midpoints[%d].value", (int)i);
     if (check_finite(z, (size_t)m->nc, path, dg) != TC_OK) return TC_EINVAL;
     snprintf(path, sizeof path, "midpoints[%d]", (int)i);
-    if (t < -1) {
-        snprintf(path, sizeof path, "midpoints[%d].triangle", (int)i);
-        return tc_diags_add(dg, TC_SEV_ERROR, path, "triangle index %d out of range (%d triangles)", (int)t, (int)m->nt);
-    }
-    if (t >= 0) {
-        int k = t < m->nt ? (tc__corner_of(m, t, a) >= 0 && tc__corner_of(m, t, b) >= 0) : 0;
-        if (!k) {
-            snprintf(path, sizeof path, "midpoints[%d].triangle", (int)i);
-            return tc_diags_add(dg, TC_SEV_ERROR, path, "triangle %d does not have edge [%d, %d]", (int)t, (int)a,
-                                (int)b);
-        }
-        c = tc__find_edge(m, a, b);
-        if (c / 3 != t) c = 3 * m->nbr[c] + m->nbr_k[c];
-        return put_midpoint(m, src, (size_t)c, i, z, path, dg);
-    }
+    if (t < -1 && check_elem(m, "midpoints", i, t, dg) != TC_OK) return TC_EINVAL; /* past the end: no such edge */
+    if (t >= 0) return put_named(m, src, t, a, b, i, z, dg);
     int st = put_midpoint(m, src, (size_t)c, i, z, path, dg);
     if (st == TC_OK && m->nbr[c] >= 0)
         st = put_midpoint(m, src, 3 * (size_t)m->nbr[c] + (size_t)m->nbr_k[c], i, z, path, dg);
@@ -257,14 +311,16 @@ static int check_edge_values(const struct tc_mesh *m, const scratch *s, size_t c
             double za = m->cz[ca * m->nc + ch], zb = m->cz[cb * m->nc + ch];
             if (fabs(za - zb) <= 1e-12 * s->scale[ch]) continue;
             char path[48];
+            const char *w = tc__elem_word(m);
             int32_t src = s->cv_src ? (s->cv_src[cb] >= 0 ? s->cv_src[cb] : s->cv_src[ca]) : -1;
             if (src >= 0) snprintf(path, sizeof path, "corner_values[%d]", (int)src);
-            else snprintf(path, sizeof path, "triangles[%d]", (int)t2);
+            else tc__elem_path(m, t2, path, sizeof path);
             return tc_diags_add(dg, TC_SEV_ERROR, path,
-                                "values disagree across %s edge [%d, %d] at vertex %d: %.17g (triangle %d) vs %.17g "
-                                "(triangle %d); flag the edge c-1 or give equal values",
+                                "values disagree across %s edge [%d, %d] at vertex %d: %.17g (%s %d) vs %.17g "
+                                "(%s %d); flag the edge c-1 or give equal values",
                                 m->flag[c] == TC_C0 ? "the C0" : "the C1", (int)m->tri[c],
-                                (int)m->tri[3 * (size_t)t + (size_t)(k + 1) % 3], (int)v, za, (int)t, zb, (int)t2);
+                                (int)m->tri[3 * (size_t)t + (size_t)(k + 1) % 3], (int)v, za, w,
+                                (int)tc__elem_index(m, t), zb, w, (int)tc__elem_index(m, t2));
         }
     }
     return TC_OK;
@@ -280,10 +336,35 @@ static int check_agreement(const struct tc_mesh *m, const scratch *s, tc_diags *
     return st;
 }
 
+/* Per-vertex second derivatives (fxx, fxy, fyy) per channel, for the Hermite
+ * twists; null entries leave a vertex without. */
+static int hessians(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    if (!d->hessians) return TC_OK;
+    size_t stride = 3 * (size_t)m->nc;
+    m->hess = tc__calloc((size_t)m->nv * stride, sizeof *m->hess);
+    m->hess_has = tc__calloc((size_t)m->nv, sizeof *m->hess_has);
+    if (!m->hess || !m->hess_has) return TC_ENOMEM;
+    int st = TC_OK;
+    for (int32_t v = 0; v < m->nv; v++) {
+        if (d->hessians_mask && !d->hessians_mask[v]) continue;
+        char path[48];
+        snprintf(path, sizeof path, "hessians[%d]", (int)v);
+        const double *h = d->hessians + (size_t)v * stride;
+        if (check_finite(h, stride, path, dg) != TC_OK) {
+            st = TC_EINVAL;
+            continue;
+        }
+        memcpy(m->hess + (size_t)v * stride, h, stride * sizeof *h);
+        m->hess_has[v] = 1;
+    }
+    return st;
+}
+
 int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     scratch s = {0};
     int st = corner_values(m, d, &s, dg);
     if (st == TC_OK) st = gradients(m, d, dg);
+    if (st == TC_OK) st = hessians(m, d, dg);
     if (st == TC_OK) st = midpoints(m, d, dg);
     if (st == TC_OK) {
         channel_scales(m, &s);

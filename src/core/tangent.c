@@ -132,14 +132,18 @@ static int source_of(const struct tc_mesh *m, int32_t c, tc_tangents mode, tc_di
     char path[48];
     int32_t t = c / 3, k = c % 3;
     if (mode == TC_TANGENTS_GIVEN) {
-        snprintf(path, sizeof path, "triangles[%d]", (int)t);
+        /* Corners a and c of a quad are in both its halves: report from the first. */
+        if (m->nq && t % 2 == 1 && k < 2) return -1;
+        tc__elem_path(m, t, path, sizeof path);
         tc_diags_add(dg, TC_SEV_ERROR, path, "corner %d (vertex %d) has no gradient or normal (tangents: \"given\")",
-                     (int)k, (int)m->tri[c]);
+                     tc__elem_corner(m, t, k), (int)m->tri[c]);
     } else if (!(m->mid_has && m->mid_has[c]) && (m->nbr[c] < 0 || t < m->nbr[c])) {
         /* Report edge k of t (the edge leaving corner c) once per mesh edge;
          * a missing edge (k+2) is reported from the corner it leaves. */
-        tc_diags_add(dg, TC_SEV_ERROR, "midpoints", "edge [%d, %d] has no midpoint sample (tangents: \"midpoints\")",
-                     (int)m->tri[c], (int)m->tri[3 * t + (k + 1) % 3]);
+        char diag[48] = "";
+        if (tc__is_diagonal(m, c)) snprintf(diag, sizeof diag, " (the diagonal of quads[%d])", (int)(t / 2));
+        tc_diags_add(dg, TC_SEV_ERROR, "midpoints", "edge [%d, %d]%s has no midpoint sample (tangents: \"midpoints\")",
+                     (int)m->tri[c], (int)m->tri[3 * t + (k + 1) % 3], diag);
     }
     return -1;
 }

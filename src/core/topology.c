@@ -61,25 +61,33 @@ static int link_edge(struct tc_mesh *m, int32_t t, int k, tc_diags *dg) {
     int32_t t2 = others[0];
     int k2 = edge_index(m, t2, a, b);
     int32_t w = m->tri[3 * (size_t)t + (size_t)(k + 2) % 3];
+    char other[48];
     if (tc__corner_of(m, t2, w) >= 0) {
         if (t2 > t) return TC_OK;  /* reported from the later copy, */
         if (k != 0) return TC_EINVAL; /* once: all its edges see it */
-        snprintf(path, sizeof path, "triangles[%d]", (int)t);
-        return tc_diags_add(dg, TC_SEV_ERROR, path, "repeats triangles[%d] (same three vertices)", (int)t2);
+        tc__elem_path(m, t, path, sizeof path);
+        tc__elem_path(m, t2, other, sizeof other);
+        if (m->nq) /* whole repeated quads were refused before: these share one half */
+            return tc_diags_add(dg, TC_SEV_ERROR, path, "overlaps %s: both contain the triangle [%d, %d, %d]", other,
+                                (int)a, (int)b, (int)w);
+        return tc_diags_add(dg, TC_SEV_ERROR, path, "repeats %s (same three vertices)", other);
     }
     if (nothers > 1) {
         if (lowest != t) return TC_EINVAL;
-        snprintf(path, sizeof path, "triangles[%d]", (int)others[1]);
+        tc__elem_path(m, others[1], path, sizeof path);
         return tc_diags_add(dg, TC_SEV_ERROR, path,
-                            "non-manifold edge [%d, %d]: shared by %d triangles (%d, %d, %d%s)", (int)a, (int)b,
-                            (int)nothers + 1, (int)t, (int)others[0], (int)others[1], nothers > 2 ? ", ..." : "");
+                            "non-manifold edge [%d, %d]: shared by %d triangles (%s%d, %d, %d%s)", (int)a, (int)b,
+                            (int)nothers + 1, m->nq ? "halves of quads " : "", (int)tc__elem_index(m, t),
+                            (int)tc__elem_index(m, others[0]), (int)tc__elem_index(m, others[1]),
+                            nothers > 2 ? ", ..." : "");
     }
     if ((side_of_third(m, t, k, a, b) > 0) == (side_of_third(m, t2, k2, a, b) > 0)) {
         if (t2 < t) return TC_EINVAL; /* reported from the lower triangle */
-        snprintf(path, sizeof path, "triangles[%d]", (int)t2);
+        tc__elem_path(m, t2, path, sizeof path);
+        tc__elem_path(m, t, other, sizeof other);
         return tc_diags_add(dg, TC_SEV_ERROR, path,
-                            "overlaps triangles[%d]: both lie on the same side of their shared edge [%d, %d]",
-                            (int)t, (int)a, (int)b);
+                            "overlaps %s: both lie on the same side of their shared edge [%d, %d]", other, (int)a,
+                            (int)b);
     }
     m->nbr[3 * (size_t)t + (size_t)k] = t2;
     m->nbr_k[3 * (size_t)t + (size_t)k] = (int8_t)k2;
@@ -131,6 +139,10 @@ static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j
     if (c < 0)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] is not an edge of the mesh", (int)p,
                             (int)q);
+    if (tc__is_diagonal(m, c)) /* inside one quad: flagging it would cut the quad's patch */
+        return tc_diags_add(dg, TC_SEV_ERROR, path,
+                            "segment [%d, %d] is the diagonal of quads[%d], not an edge of the mesh", (int)p, (int)q,
+                            (int)(c / 6));
     if (fc->src[c] >= 0 && fc->src_kind[c] != fc->kind)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "edge [%d, %d] is flagged both c0 and c-1 (also in %s[%d])",
                             (int)p, (int)q, fc->src_kind[c] == TC_C0 ? "discontinuities.c0" : "discontinuities.c-1",

@@ -27,13 +27,23 @@ typedef struct {
     int32_t *corners;    /* [3nt] corner ids grouped by wedge */
     int32_t *of_corner;  /* [3nt] wedge of each corner */
     int8_t *vclass;      /* [nv] TC_C1, TC_C0 or TC_CM1 */
-    int honor_flags;     /* 0: every interior edge treated as C1 */
+    int honor_flags;     /* TC_HONOR_*: which interior flags delimit wedges */
     int32_t ncoupled;    /* wedges with a C0 side: work for WedgeNormal steps 3-4 */
 } tc_wedge_set;
 
+/* Which interior flags a reconstruction honours (tc__wedges_build's
+ * honor_flags; 0 and 1 are also plain booleans). The boundary always delimits. */
+enum {
+    TC_HONOR_NONE = 0, /* every interior edge is C1 (clough-tocher-c1) */
+    TC_HONOR_ALL = 1,  /* C0 and C-1 as flagged (clough-tocher) */
+    TC_HONOR_CM1 = 2   /* C-1 only, C0 read as C1: for a scheme that cannot keep a kink (powell-sabin) */
+};
+
 /* The continuity of edge id e as the reconstruction sees it. */
 static inline int tc__eff_flag(const struct tc_mesh *m, int honor_flags, int32_t e) {
-    return honor_flags || m->nbr[e] < 0 ? m->flag[e] : TC_C1;
+    int f = m->flag[e];
+    if (honor_flags == TC_HONOR_ALL || m->nbr[e] < 0) return f;
+    return honor_flags == TC_HONOR_CM1 && f == TC_CM1 ? TC_CM1 : TC_C1;
 }
 
 int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc_wedge_set *ws);

@@ -64,10 +64,17 @@ static int over(tc_api_result *res, const char *field, int64_t n, int64_t max, c
     return 1;
 }
 
+/* The triangles a request's mesh becomes: a quad counts as the two it is split into. */
+static int64_t triangle_count(const tc_request *q) {
+    return q->desc.ntris > 0 ? q->desc.ntris : 2 * (int64_t)q->desc.nquads;
+}
+
 static int within_limits(const tc_request *q, const tc_api_limits *lim, tc_api_result *res) {
     if (!lim) return 1;
+    int quads = q->desc.ntris <= 0 && q->desc.nquads > 0;
     return !over(res, "vertices", q->desc.nverts, lim->max_vertices, "vertices") &&
-           !over(res, "triangles", q->desc.ntris, lim->max_triangles, "triangles") &&
+           !over(res, quads ? "quads" : "triangles", triangle_count(q), lim->max_triangles,
+                 quads ? "triangles (2 per quad)" : "triangles") &&
            !over(res, "points", (int64_t)q->npoints, lim->max_points, "points") &&
            !over(res, "reference.points", (int64_t)q->nreference, lim->max_points, "reference points");
 }
@@ -84,7 +91,7 @@ static int job_build(job *j, const char *body, size_t len, unsigned expect, cons
     st = tc_recon_new(j->mesh, &j->req->opt, &j->recon, &res->diags);
     lap(res, TC_PHASE_BUILD, t0);
     if (st != TC_OK) return res->status = status_of_core(st);
-    res->triangles = j->req->desc.ntris;
+    res->triangles = triangle_count(j->req);
     return res->status = 200;
 }
 
@@ -369,7 +376,7 @@ int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_st
             compare_one(&j, L, &o, &b, res, &t0);
         }
         tc_strbuf_putc(&b, ']');
-        res->triangles = (int64_t)n * j.req->desc.ntris;
+        res->triangles = (int64_t)n * triangle_count(j.req);
         finish(out, &b, res);
         lap(res, TC_PHASE_ENCODE, &t0);
     } else if (st > 0) {

@@ -57,6 +57,7 @@ typedef struct {
     int nomem;           /* an allocation failed: stop reading */
     int nchan;           /* channels fixed by values[0]; 0 while unknown */
     int nverts_known;    /* vertices was an array: desc.nverts is its length */
+    int quads;           /* the mesh is given as "quads": per-corner entries name quads */
 } reader;
 
 static void vreport(reader *rd, tc_severity sev, const jpath *p, const char *fmt, va_list ap) {
@@ -395,9 +396,24 @@ static void read_member_int(reader *rd, const cJSON *v, const jpath *obj, const 
                             int32_t *out) {
     jpath p = key_path(obj, name);
     if (!v)
-        shape_error(rd, &p, "missing required field '%s' (a triangle index)", name);
+        shape_error(rd, &p, "missing required field '%s' (a %s index)", name, name);
     else
         read_int(rd, v, &p, out);
+}
+
+/* The element an entry names: "triangle" on a mesh of triangles, "quad" on
+ * one of quads (found[0] and found[1] hold the two members); the other name is
+ * refused, since its index would mean something else. Corner counts follow. */
+static void read_member_elem(reader *rd, const cJSON *const found[2], const jpath *obj, int required,
+                             int32_t *out) {
+    const char *want = rd->quads ? "quad" : "triangle", *other = rd->quads ? "triangle" : "quad";
+    const cJSON *v = found[rd->quads], *bad = found[!rd->quads];
+    if (bad) {
+        jpath p = key_path(obj, other);
+        value_error(rd, &p, "this mesh is given as %ss: name the %s ('%s': index)", want, want, want);
+        return;
+    }
+    if (v || required) read_member_int(rd, v, obj, want, out);
 }
 
 /* ---- fields: geometry ------------------------------------------------------------- */
@@ -426,6 +442,19 @@ static void parse_vertices(reader *rd, const cJSON *v, const jpath *p) {
     rd->r->desc.nverts = (int32_t)n;
     rd->r->desc.xy = xy;
     rd->nverts_known = 1;
+}
+
+static void parse_quads(reader *rd, const cJSON *v, const jpath *p) {
+    size_t n, i = 0;
+    if (open_array(rd, v, p, "an array of quads [[a, b, c, d], ...]", INT32_MAX / 2, &n)) return;
+    int32_t *quads = own_alloc(rd, n, 4 * sizeof *quads);
+    if (n && !quads) return;
+    for (const cJSON *e = v->child; e; e = e->next, i++) {
+        jpath pi = index_path(p, i);
+        read_ints(rd, e, &pi, 4, quads + 4 * i, "[a, b, c, d]");
+    }
+    rd->r->desc.nquads = (int32_t)n;
+    rd->r->desc.quads = quads;
 }
 
 static void parse_triangles(reader *rd, const cJSON *v, const jpath *p) {
@@ -493,26 +522,34 @@ static void parse_values(reader *rd, const cJSON *v, const jpath *p) {
 
 static const field corner_value_fields[] = {
     {"triangle", NULL, 0, "t"},
+    {"quad", NULL, 0, "q"},
     {"values", NULL, 0, "[za, zb, zc]"},
 };
-enum { CV_TRIANGLE, CV_VALUES, CV_NFIELDS };
+enum { CV_TRIANGLE, CV_QUAD, CV_VALUES, CV_NFIELDS };
 
-/* {"triangle": t, "values": [za, zb, zc]} into *tri and z[3][C]. */
+/* Corners per entry, and how their list is shown in messages. */
+static int entry_corners(const reader *rd) { return rd->quads ? 4 : 3; }
+
+/* {"triangle": t, "values": [za, zb, zc]} into *tri and z[3][C]; on a quad
+ * mesh {"quad": q, "values": [za, zb, zc, zd]} into *tri and z[4][C]. */
 static void read_corner_value(reader *rd, const cJSON *e, const jpath *p, int32_t *tri, double *z) {
     const cJSON *f[CV_NFIELDS];
     char buf[48];
+    int nk = entry_corners(rd);
+    const char *list = rd->quads ? "[za, zb, zc, zd]" : "[za, zb, zc]";
     if (read_members(rd, e, p, corner_value_fields, CV_NFIELDS, f,
-                     "an object {\"triangle\": t, \"values\": [za, zb, zc]}"))
+                     rd->quads ? "an object {\"quad\": q, \"values\": [za, zb, zc, zd]}"
+                               : "an object {\"triangle\": t, \"values\": [za, zb, zc]}"))
         return;
-    read_member_int(rd, f[CV_TRIANGLE], p, "triangle", tri);
+    read_member_elem(rd, f + CV_TRIANGLE, p, 1, tri);
     jpath pv = key_path(p, "values");
     const cJSON *vals = f[CV_VALUES];
     if (!vals) {
-        shape_error(rd, &pv, "missing required field 'values' (the 3 corner values [za, zb, zc])");
+        shape_error(rd, &pv, "missing required field 'values' (the %d corner values %s)", nk, list);
         return;
     }
-    if (!is_type(vals, cJSON_Array) || count_items(vals) != 3) {
-        shape_error(rd, &pv, "expected an array of 3 corner values [za, zb, zc], got %s",
+    if (!is_type(vals, cJSON_Array) || count_items(vals) != (size_t)nk) {
+        shape_error(rd, &pv, "expected an array of %d corner values %s, got %s", nk, list,
                     describe(vals, buf, sizeof buf));
         return;
     }
@@ -528,13 +565,13 @@ static void parse_corner_values(reader *rd, const cJSON *v, const jpath *p) {
     if (!rd->nchan) return; /* values unreadable: already reported, C unknown */
     if (open_array(rd, v, p, "an array of {\"triangle\": t, \"values\": [za, zb, zc]}", INT32_MAX, &n))
         return;
-    size_t C = (size_t)rd->nchan;
+    size_t C = (size_t)rd->nchan, nk = (size_t)entry_corners(rd);
     int32_t *tri = own_alloc(rd, n, sizeof *tri);
-    double *z = own_alloc(rd, n, 3 * C * sizeof *z);
+    double *z = own_alloc(rd, n, nk * C * sizeof *z);
     if (n && (!tri || !z)) return;
     for (const cJSON *e = v->child; e; e = e->next, i++) {
         jpath pi = index_path(p, i);
-        read_corner_value(rd, e, &pi, &tri[i], z + i * 3 * C);
+        read_corner_value(rd, e, &pi, &tri[i], z + i * nk * C);
     }
     rd->r->desc.ncorner_values = (int32_t)n;
     rd->r->desc.corner_values_tri = tri;
@@ -545,8 +582,9 @@ static const field midpoint_fields[] = {
     {"edge", NULL, 0, "[i, j]"},
     {"value", NULL, 0, "z or [z1, ..., zC]"},
     {"triangle", NULL, 0, "t"},
+    {"quad", NULL, 0, "q"},
 };
-enum { MP_EDGE, MP_VALUE, MP_TRIANGLE, MP_NFIELDS };
+enum { MP_EDGE, MP_VALUE, MP_TRIANGLE, MP_QUAD, MP_NFIELDS };
 
 /* {"edge": [i, j], "value": z, "triangle": t (optional)} into edge[2], *tri, z[C]. */
 static void read_midpoint(reader *rd, const cJSON *e, const jpath *p, int32_t *edge, int32_t *tri,
@@ -565,7 +603,7 @@ static void read_midpoint(reader *rd, const cJSON *e, const jpath *p, int32_t *e
     else
         read_channels(rd, f[MP_VALUE], &pv, z);
     *tri = -1; /* both sides, unless it names one */
-    if (f[MP_TRIANGLE]) read_member_int(rd, f[MP_TRIANGLE], p, "triangle", tri);
+    read_member_elem(rd, f + MP_TRIANGLE, p, 0, tri);
 }
 
 static void parse_midpoints(reader *rd, const cJSON *v, const jpath *p) {
@@ -627,30 +665,40 @@ static void parse_normals(reader *rd, const cJSON *v, const jpath *p) {
                         &rd->r->desc.normals_mask);
 }
 
+static void parse_hessians(reader *rd, const cJSON *v, const jpath *p) {
+    read_vertex_vectors(rd, v, p, 3, "[fxx, fxy, fyy]", &rd->r->desc.hessians,
+                        &rd->r->desc.hessians_mask);
+}
+
 static const field corner_gradient_fields[] = {
     {"triangle", NULL, 0, "t"},
+    {"quad", NULL, 0, "q"},
     {"gradients", NULL, 0, "[g_a, g_b, g_c]"},
 };
-enum { CG_TRIANGLE, CG_GRADIENTS, CG_NFIELDS };
+enum { CG_TRIANGLE, CG_QUAD, CG_GRADIENTS, CG_NFIELDS };
 
-/* {"triangle": t, "gradients": [g_a, g_b, g_c]} into *tri, g[3][C][2], mask[3];
+/* {"triangle": t, "gradients": [g_a, g_b, g_c]} into *tri, g[3][C][2], mask[3]
+ * (on a quad mesh {"quad": q, "gradients": [g_a, g_b, g_c, g_d]}, 4 corners);
  * returns 0 if some corner is null (not given). */
 static int read_corner_gradient(reader *rd, const cJSON *e, const jpath *p, int32_t *tri,
                                 double *g, uint8_t *mask) {
     const cJSON *f[CG_NFIELDS];
     char buf[48];
+    int nk = entry_corners(rd);
+    const char *list = rd->quads ? "[g_a, g_b, g_c, g_d]" : "[g_a, g_b, g_c]";
     if (read_members(rd, e, p, corner_gradient_fields, CG_NFIELDS, f,
-                     "an object {\"triangle\": t, \"gradients\": [g_a, g_b, g_c]}"))
+                     rd->quads ? "an object {\"quad\": q, \"gradients\": [g_a, g_b, g_c, g_d]}"
+                               : "an object {\"triangle\": t, \"gradients\": [g_a, g_b, g_c]}"))
         return 1;
-    read_member_int(rd, f[CG_TRIANGLE], p, "triangle", tri);
+    read_member_elem(rd, f + CG_TRIANGLE, p, 1, tri);
     jpath pg = key_path(p, "gradients");
     const cJSON *gs = f[CG_GRADIENTS];
     if (!gs) {
-        shape_error(rd, &pg, "missing required field 'gradients' (one per corner: [g_a, g_b, g_c])");
+        shape_error(rd, &pg, "missing required field 'gradients' (one per corner: %s)", list);
         return 1;
     }
-    if (!is_type(gs, cJSON_Array) || count_items(gs) != 3) {
-        shape_error(rd, &pg, "expected an array of 3 corner gradients [g_a, g_b, g_c], got %s",
+    if (!is_type(gs, cJSON_Array) || count_items(gs) != (size_t)nk) {
+        shape_error(rd, &pg, "expected an array of %d corner gradients %s, got %s", nk, list,
                     describe(gs, buf, sizeof buf));
         return 1;
     }
@@ -674,15 +722,15 @@ static void parse_corner_gradients(reader *rd, const cJSON *v, const jpath *p) {
     if (open_array(rd, v, p, "an array of {\"triangle\": t, \"gradients\": [g_a, g_b, g_c]}",
                    INT32_MAX, &n))
         return;
-    size_t stride = 3 * 2 * (size_t)rd->nchan;
+    size_t nk = (size_t)entry_corners(rd), stride = nk * 2 * (size_t)rd->nchan;
     int32_t *tri = own_alloc(rd, n, sizeof *tri);
     double *g = own_alloc(rd, n, stride * sizeof *g);
-    uint8_t *mask = own_alloc(rd, n, 3);
+    uint8_t *mask = own_alloc(rd, n, nk);
     if (n && (!tri || !g || !mask)) return;
     int all = 1;
     for (const cJSON *e = v->child; e; e = e->next, i++) {
         jpath pi = index_path(p, i);
-        all &= read_corner_gradient(rd, e, &pi, &tri[i], g + i * stride, mask + 3 * i);
+        all &= read_corner_gradient(rd, e, &pi, &tri[i], g + i * stride, mask + nk * i);
     }
     rd->r->desc.ncorner_gradients = (int32_t)n;
     rd->r->desc.corner_gradients_tri = tri;
@@ -776,6 +824,7 @@ NAME_ADAPTERS(method, tc_method)
 NAME_ADAPTERS(cross, tc_cross)
 NAME_ADAPTERS(wedges, tc_wedges)
 NAME_ADAPTERS(tangents, tc_tangents)
+NAME_ADAPTERS(twist, tc_twist)
 
 /* "a, b, c": every name the enum knows (values are dense from 0). */
 static void list_names(name_of_fn name_of, char *buf, size_t cap) {
@@ -823,6 +872,11 @@ static void parse_tangents(reader *rd, const cJSON *v, const jpath *p) {
     int x;
     if (!read_name(rd, v, p, tangents_parse_int, tangents_name_int, &x))
         rd->r->opt.tangents = (tc_tangents)x;
+}
+
+static void parse_twist(reader *rd, const cJSON *v, const jpath *p) {
+    int x;
+    if (!read_name(rd, v, p, twist_parse_int, twist_name_int, &x)) rd->r->opt.twist = (tc_twist)x;
 }
 
 static int read_bool(reader *rd, const cJSON *v, const jpath *p, int *out) {
@@ -959,9 +1013,10 @@ static void parse_reference(reader *rd, const cJSON *v, const jpath *p) {
         value_error(rd, &ps, "scale must be positive, got %g", rd->r->reference_scale);
 }
 
-static const field method_fields[] = {
-    {"method", NULL, 0, ""}, {"cross_boundary", NULL, 0, ""}, {"wedges", NULL, 0, ""}, {"tangents", NULL, 0, ""}};
-enum { MF_METHOD, MF_CROSS, MF_WEDGES, MF_TANGENTS, MF_NFIELDS };
+static const field method_fields[] = {{"method", NULL, 0, ""},   {"cross_boundary", NULL, 0, ""},
+                                     {"wedges", NULL, 0, ""},   {"tangents", NULL, 0, ""},
+                                     {"twist", NULL, 0, ""}};
+enum { MF_METHOD, MF_CROSS, MF_WEDGES, MF_TANGENTS, MF_TWIST, MF_NFIELDS };
 
 /* One entry of "methods": a method name, or an object of options (the
  * request's own options are the defaults for the fields it leaves out). */
@@ -986,6 +1041,8 @@ static void read_method(reader *rd, const cJSON *e, const jpath *p, tc_options *
     if (found[MF_TANGENTS] &&
         !read_name(rd, found[MF_TANGENTS], &pk[MF_TANGENTS], tangents_parse_int, tangents_name_int, &x))
         o->tangents = (tc_tangents)x;
+    if (found[MF_TWIST] && !read_name(rd, found[MF_TWIST], &pk[MF_TWIST], twist_parse_int, twist_name_int, &x))
+        o->twist = (tc_twist)x;
 }
 
 static void parse_methods(reader *rd, const cJSON *v, const jpath *p) {
@@ -1019,11 +1076,13 @@ static void parse_background(reader *rd, const cJSON *v, const jpath *p) {
  * count, before every other per-channel field). */
 static const field top_fields[] = {
     {"vertices", parse_vertices, ROLE_MESH, "[[x, y], ...]"},
-    {"triangles", parse_triangles, ROLE_MESH, "[[i, j, k], ...]"},
+    {"triangles", parse_triangles, ROLE_MESH, "[[i, j, k], ...] (or \"quads\": [[a, b, c, d], ...])"},
+    {"quads", parse_quads, ROLE_MESH_DATA, ""}, /* instead of triangles */
     {"values", parse_values, ROLE_MESH, "[z, ...] or [[z1, ..., zC], ...]"},
     {"corner_values", parse_corner_values, ROLE_MESH_DATA, ""},
     {"gradients", parse_gradients, ROLE_MESH_DATA, ""},
     {"normals", parse_normals, ROLE_MESH_DATA, ""},
+    {"hessians", parse_hessians, ROLE_MESH_DATA, ""},
     {"corner_gradients", parse_corner_gradients, ROLE_MESH_DATA, ""},
     {"midpoints", parse_midpoints, ROLE_MESH_DATA, ""},
     {"discontinuities", parse_discontinuities, ROLE_MESH_DATA, ""},
@@ -1031,6 +1090,7 @@ static const field top_fields[] = {
     {"cross_boundary", parse_cross, 0, ""},
     {"wedges", parse_wedges, 0, ""},
     {"tangents", parse_tangents, 0, ""},
+    {"twist", parse_twist, 0, ""},
     {"points", parse_points, ROLE_POINTS, "[[x, y], ...]"},
     {"with_gradients", parse_with_gradients, 0, ""},
     {"viewport", parse_viewport, ROLE_VIEWPORT, "{x0, y0, x1, y1, width, height}"},
@@ -1041,8 +1101,6 @@ static const field top_fields[] = {
     {"background", parse_background, 0, ""},
     {"reference", parse_reference, ROLE_REFERENCE, "{points, values}"},
     {"methods", parse_methods, 0, ""},
-    /* accepted now, read by the endpoints that add them */
-    {"quads", NULL, 0, ""},
 };
 #define NTOP ((int)(sizeof top_fields / sizeof top_fields[0]))
 
@@ -1054,7 +1112,8 @@ static void check_required(reader *rd, const cJSON *const *found) {
         if (found[i] && (top_fields[i].role & (ROLE_MESH | ROLE_MESH_DATA))) want_mesh = 1;
     for (int i = 0; i < NTOP; i++) {
         unsigned role = top_fields[i].role;
-        int required = ((role & ROLE_MESH) && want_mesh) ||
+        int quads_instead = !strcmp(top_fields[i].name, "triangles") && found[field_index(top_fields, NTOP, "quads")];
+        int required = ((role & ROLE_MESH) && want_mesh && !quads_instead) ||
                        ((role & ROLE_POINTS) && (rd->expect & TC_REQ_POINTS)) ||
                        ((role & ROLE_VIEWPORT) && (rd->expect & TC_REQ_VIEWPORT)) ||
                        ((role & ROLE_REFERENCE) && (rd->expect & TC_REQ_REFERENCE));
@@ -1073,12 +1132,17 @@ static void check_exclusive(reader *rd, const cJSON *const *found) {
         jpath p = key_path(NULL, "normals");
         value_error(rd, &p, "give either gradients or normals, not both");
     }
+    if (found[field_index(top_fields, NTOP, "triangles")] && found[field_index(top_fields, NTOP, "quads")]) {
+        jpath p = key_path(NULL, "quads");
+        value_error(rd, &p, "give either triangles or quads, not both");
+    }
 }
 
 static void read_request(reader *rd, const cJSON *root) {
     const cJSON *found[NTOP];
     if (read_members(rd, root, NULL, top_fields, NTOP, found, "a JSON object (the request)")) return;
     check_required(rd, found);
+    rd->quads = found[field_index(top_fields, NTOP, "quads")] && !found[field_index(top_fields, NTOP, "triangles")];
     for (int i = 0; i < NTOP && !rd->nomem; i++) {
         if (!found[i] || !top_fields[i].parse) continue;
         jpath p = key_path(NULL, top_fields[i].name);

@@ -31,14 +31,31 @@ static void vectors(tc_strbuf *b, const double *g, int nc, int dim) {
     tc_strbuf_putc(b, ']');
 }
 
+/* A mesh given as quads (and not triangles) has 4 corners per element, and
+ * its per-corner entries name quads. */
+static int is_quads(const tc_mesh_desc *d) { return d->nquads > 0 && d->ntris <= 0; }
+static int corners(const tc_mesh_desc *d) { return is_quads(d) ? 4 : 3; }
+static const char *element(const tc_mesh_desc *d) { return is_quads(d) ? "quad" : "triangle"; }
+
+/* ,"triangle": t or ,"quad": q (without the comma when first). */
+static void element_member(tc_strbuf *b, const tc_mesh_desc *d, int32_t e, int first) {
+    tc_strbuf_puts(b, first ? "\"" : ",\"");
+    tc_strbuf_puts(b, element(d));
+    tc_strbuf_puts(b, "\":");
+    tc_strbuf_int(b, e);
+}
+
 static void geometry(tc_strbuf *b, const tc_mesh_desc *d) {
+    int nk = corners(d);
+    int32_t n = is_quads(d) ? d->nquads : d->ntris;
+    const int32_t *el = is_quads(d) ? d->quads : d->tris;
     member(b, "vertices");
     tc_strbuf_putc(b, '[');
     for (int32_t v = 0; v < d->nverts && !b->oom; v++) item(b, (size_t)v), tc_json_numbers(b, d->xy + 2 * (size_t)v, 2);
     tc_strbuf_puts(b, "]");
-    member(b, "triangles");
+    member(b, is_quads(d) ? "quads" : "triangles");
     tc_strbuf_putc(b, '[');
-    for (int32_t t = 0; t < d->ntris && !b->oom; t++) item(b, (size_t)t), tc_json_ints(b, d->tris + 3 * (size_t)t, 3);
+    for (int32_t t = 0; t < n && !b->oom; t++) item(b, (size_t)t), tc_json_ints(b, el + (size_t)nk * t, nk);
     tc_strbuf_puts(b, "]");
 }
 
@@ -51,14 +68,15 @@ static void values(tc_strbuf *b, const tc_mesh_desc *d) {
     if (!d->ncorner_values) return;
     member(b, "corner_values");
     tc_strbuf_putc(b, '[');
+    int nk = corners(d);
     for (int32_t i = 0; i < d->ncorner_values && !b->oom; i++) {
         item(b, (size_t)i);
-        tc_strbuf_puts(b, "{\"triangle\":");
-        tc_strbuf_int(b, d->corner_values_tri[i]);
+        tc_strbuf_putc(b, '{');
+        element_member(b, d, d->corner_values_tri[i], 1);
         tc_strbuf_puts(b, ",\"values\":[");
-        for (int k = 0; k < 3; k++) {
+        for (int k = 0; k < nk; k++) {
             if (k) tc_strbuf_putc(b, ',');
-            sample(b, d->corner_values + (3 * (size_t)i + k) * nc, nc);
+            sample(b, d->corner_values + ((size_t)nk * i + k) * nc, nc);
         }
         tc_strbuf_puts(b, "]}");
     }
@@ -81,18 +99,18 @@ static void vertex_vectors(tc_strbuf *b, const char *name, const double *x, cons
 
 static void corner_gradients(tc_strbuf *b, const tc_mesh_desc *d) {
     if (!d->ncorner_gradients) return;
-    size_t stride = 2 * (size_t)d->nchan;
+    size_t stride = 2 * (size_t)d->nchan, nk = (size_t)corners(d);
     member(b, "corner_gradients");
     tc_strbuf_putc(b, '[');
     for (int32_t i = 0; i < d->ncorner_gradients && !b->oom; i++) {
         item(b, (size_t)i);
-        tc_strbuf_puts(b, "{\"triangle\":");
-        tc_strbuf_int(b, d->corner_gradients_tri[i]);
+        tc_strbuf_putc(b, '{');
+        element_member(b, d, d->corner_gradients_tri[i], 1);
         tc_strbuf_puts(b, ",\"gradients\":[");
-        for (int k = 0; k < 3; k++) {
+        for (size_t k = 0; k < nk; k++) {
             if (k) tc_strbuf_putc(b, ',');
-            if (d->corner_gradients_mask && !d->corner_gradients_mask[3 * (size_t)i + k]) tc_strbuf_puts(b, "null");
-            else vectors(b, d->corner_gradients + (3 * (size_t)i + k) * stride, d->nchan, 2);
+            if (d->corner_gradients_mask && !d->corner_gradients_mask[nk * i + k]) tc_strbuf_puts(b, "null");
+            else vectors(b, d->corner_gradients + (nk * i + k) * stride, d->nchan, 2);
         }
         tc_strbuf_puts(b, "]}");
     }
@@ -109,10 +127,7 @@ static void midpoints(tc_strbuf *b, const tc_mesh_desc *d) {
         tc_json_ints(b, d->midpoint_edge + 2 * (size_t)i, 2);
         tc_strbuf_puts(b, ",\"value\":");
         sample(b, d->midpoint_values + (size_t)i * d->nchan, d->nchan);
-        if (d->midpoint_tri && d->midpoint_tri[i] >= 0) {
-            tc_strbuf_puts(b, ",\"triangle\":");
-            tc_strbuf_int(b, d->midpoint_tri[i]);
-        }
+        if (d->midpoint_tri && d->midpoint_tri[i] >= 0) element_member(b, d, d->midpoint_tri[i], 0);
         tc_strbuf_putc(b, '}');
     }
     tc_strbuf_puts(b, "]");
@@ -141,6 +156,9 @@ static void options(tc_strbuf *b, const tc_options *o) {
     tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
     member(b, "tangents");
     tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
+    if (o->method != TC_METHOD_HERMITE) return; /* the option only hermite reads */
+    member(b, "twist");
+    tc_strbuf_json_string(b, tc_twist_name(o->twist));
 }
 
 void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
@@ -149,6 +167,7 @@ void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
     values(b, d);
     vertex_vectors(b, "gradients", d->gradients, d->gradients_mask, d, 2);
     vertex_vectors(b, "normals", d->normals, d->normals_mask, d, 3);
+    vertex_vectors(b, "hessians", d->hessians, d->hessians_mask, d, 3);
     corner_gradients(b, d);
     midpoints(b, d);
     if (d->c0.count || d->cm1.count) {

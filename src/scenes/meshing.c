@@ -30,6 +30,7 @@ void tc_scene_mesh_opts_default(tc_scene_mesh_opts *o) {
     o->gradients = 0;
     o->threshold = 0.1;
     o->max_depth = 4;
+    o->quads = 0;
 }
 
 double tc_scene_triangle_aspect(const double a[2], const double b[2], const double c[2]) {
@@ -207,7 +208,8 @@ static void grid_geometry(const grid *g, tc__mbuild *b) {
 
 /* Disc: every event segment prolonged across the domain as a C1 grid line (no
  * T-vertices: the arrangement of axis-parallel lines is a grid), gaps wider
- * than 1/N split, each cell cut in two along its rising diagonal, and the grid
+ * than 1/N split, each cell cut in two along its rising diagonal (triangles 2q
+ * and 2q+1 of cell q, the split of quad (v00, v10, v11, v01)), and the grid
  * edges on event segments flagged with the event's kind. Uniform: the same
  * without events. */
 static int grid_mesh(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild *b) {
@@ -238,13 +240,17 @@ static int grid_mesh(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild 
 
 /* ---- entry points ---------------------------------------------------------------- */
 
-static int check_opts(const tc_scene_mesh_opts *o) {
-    if ((int)o->kind < 0 || (int)o->kind >= NKINDS) return TC_EINVAL;
-    if (o->density < 1 || o->density > 1024) return TC_EINVAL;
-    if (o->kind == TC_SCENE_MESH_ADAPTIVE && (!(o->threshold >= 0) || o->max_depth < 0 || o->max_depth > 12))
-        return TC_EINVAL;
-    return TC_OK;
+const char *tc_scene_mesh_opts_check(const tc_scene_mesh_opts *o) {
+    if ((int)o->kind < 0 || (int)o->kind >= NKINDS) return "unknown mesh kind";
+    if (o->density < 1 || o->density > 1024) return "the density must be 1 to 1024";
+    if (o->kind != TC_SCENE_MESH_ADAPTIVE) return NULL;
+    if (!(o->threshold >= 0)) return "the threshold must be a number >= 0";
+    if (o->max_depth < 0 || o->max_depth > 12) return "the depth must be 0 to 12";
+    if (o->quads) return "adaptive meshes have hanging vertices (T-junctions), so their cells cannot be given as quads";
+    return NULL;
 }
+
+static int check_opts(const tc_scene_mesh_opts *o) { return tc_scene_mesh_opts_check(o) ? TC_EINVAL : TC_OK; }
 
 int tc_scene_mesh_new(const tc_scene *s, const tc_scene_mesh_opts *o, tc_scene_mesh **out) {
     *out = NULL;
@@ -268,7 +274,7 @@ int tc_scene_mesh_new(const tc_scene *s, const tc_scene_mesh_opts *o, tc_scene_m
 void tc_scene_mesh_free(tc_scene_mesh *m) {
     if (!m) return;
     free(m->xy_), free(m->values_), free(m->corner_values_), free(m->corner_gradients_), free(m->midpoint_values_);
-    free(m->tris_), free(m->corner_values_tri_), free(m->corner_gradients_tri_), free(m->midpoint_edge_);
+    free(m->tris_), free(m->quads_), free(m->corner_values_tri_), free(m->corner_gradients_tri_), free(m->midpoint_edge_);
     free(m->midpoint_tri_);
     for (int k = 0; k < 2; k++) free(m->line_start_[k]), free(m->line_verts_[k]);
     free(m);

@@ -28,10 +28,14 @@ typedef struct {
     double threshold; /* adaptive: split while (max - min) of B at a cell's corners
                        * exceeds threshold * the scene's scale */
     int max_depth;    /* adaptive: at most this many splits below the start grid, 0..12 */
+    int quads;        /* disc, uniform: each cell one quad instead of two triangles
+                       * (adaptive meshes have hanging vertices: refused) */
 } tc_scene_mesh_opts;
 
-/* disc, N = 8, midpoints on, gradients off, threshold 0.1, depth 4. */
+/* disc, N = 8, midpoints on, gradients off, threshold 0.1, depth 4, triangles. */
 void tc_scene_mesh_opts_default(tc_scene_mesh_opts *o);
+/* NULL if the options are valid, else what is wrong with them (one sentence). */
+const char *tc_scene_mesh_opts_check(const tc_scene_mesh_opts *o);
 
 /* A mesh with its samples. desc is ready for tc_mesh_new and tc_json_request
  * and points into arrays this object owns. Triangles are counter-clockwise.
@@ -39,7 +43,12 @@ void tc_scene_mesh_opts_default(tc_scene_mesh_opts *o);
  * side get that side's limit as corner values (only triangles whose corner
  * differs from the vertex value are listed). Midpoint samples on C-1 edges are
  * per side ("triangle" set), elsewhere shared. Flagged edges are given as
- * polylines along each flagged line. */
+ * polylines along each flagged line.
+ * With opts.quads the cells are given as quads (desc.nquads, desc.quads;
+ * desc.tris NULL): quad q is the cell whose two triangles would have been 2q
+ * and 2q+1, listed (v00, v10, v11, v01) so that its split is exactly those two
+ * triangles; corner values, corner gradients (along the quad's own edges) and
+ * midpoint sides then name quads, and every diagonal keeps its midpoint sample. */
 typedef struct {
     tc_mesh_desc desc;
     int64_t samples;          /* scene evaluations for vertex, corner and midpoint values */
@@ -50,12 +59,12 @@ typedef struct {
 
     /* storage behind desc (owned) */
     double *xy_, *values_, *corner_values_, *corner_gradients_, *midpoint_values_;
-    int32_t *tris_, *corner_values_tri_, *corner_gradients_tri_, *midpoint_edge_, *midpoint_tri_;
+    int32_t *tris_, *quads_, *corner_values_tri_, *corner_gradients_tri_, *midpoint_edge_, *midpoint_tri_;
     int32_t *line_start_[2], *line_verts_[2]; /* [0] c0, [1] c-1 */
 } tc_scene_mesh;
 
 /* Meshes and samples scene s. Returns TC_OK (*out set), TC_EINVAL for bad
- * options, TC_ELIMIT when the mesh would exceed 2^24 triangles, TC_ENOMEM. */
+ * options (tc_scene_mesh_opts_check says which), TC_ELIMIT when the mesh would exceed 2^24 triangles, TC_ENOMEM. */
 int tc_scene_mesh_new(const tc_scene *s, const tc_scene_mesh_opts *o, tc_scene_mesh **out);
 void tc_scene_mesh_free(tc_scene_mesh *m);
 

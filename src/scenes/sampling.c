@@ -28,8 +28,23 @@ typedef struct {
     int32_t *tri_edge;         /* [3nt]: the edge from corner k to corner k+1 */
     int32_t *vstart, *vcorner; /* vertex -> corners (3t + k), CSR */
     double *cz;                /* [3nt] corner values */
+    int quads;                 /* per-corner data goes to quads: cell q = triangles 2q, 2q+1 */
     tc_scene_mesh *m;
 } ctx;
+
+/* The elements per-corner data names: triangles, or quads (pairs of them). */
+static int32_t elem_count(const ctx *c) { return c->quads ? c->b->nt / 2 : c->b->nt; }
+
+/* The corner ids (3t + k) of element e's corners, in its order; returns how
+ * many (3, or 4: quad e's halves are 2e = (a, b, c) and 2e+1 = (a, c, d)). */
+static int elem_corners(const ctx *c, int32_t e, int32_t id[4]) {
+    if (!c->quads) {
+        for (int k = 0; k < 3; k++) id[k] = 3 * e + k;
+        return 3;
+    }
+    id[0] = 6 * e, id[1] = 6 * e + 1, id[2] = 6 * e + 2, id[3] = 6 * e + 5;
+    return 4;
+}
 
 /* ---- topology ---------------------------------------------------------------------- */
 
@@ -193,8 +208,18 @@ static void sector_values(ctx *c, int32_t v) {
     }
 }
 
+/* Element e has a corner whose value differs from its vertex value. */
+static int elem_differs(const ctx *c, int32_t e) {
+    int32_t id[4];
+    int differs = 0;
+    for (int k = 0, n = elem_corners(c, e, id); k < n; k++) differs |= c->cz[id[k]] != c->m->values_[c->b->tri[id[k]]];
+    return differs;
+}
+
 /* Corner values (vertex values, then the sectors), and the corner_values
- * entries of the triangles where some corner differs from its vertex value. */
+ * entries of the elements where some corner differs from its vertex value.
+ * Both halves of a quad meet its shared corners a and c inside the quad's
+ * angle there, hence in one sector: they got the same value. */
 static int corner_values(ctx *c) {
     const tc__mbuild *b = c->b;
     tc_scene_mesh *m = c->m;
@@ -202,23 +227,17 @@ static int corner_values(ctx *c) {
     if (!c->cz) return TC_ENOMEM;
     for (int32_t i = 0; i < 3 * b->nt; i++) c->cz[i] = m->values_[b->tri[i]];
     for (int32_t v = 0; v < b->nv; v++) sector_values(c, v);
-    int32_t n = 0;
-    for (int32_t t = 0; t < b->nt; t++)
-        for (int k = 0; k < 3; k++)
-            if (c->cz[3 * t + k] != m->values_[b->tri[3 * t + k]]) {
-                n++;
-                break;
-            }
+    int32_t n = 0, nk = c->quads ? 4 : 3, id[4];
+    for (int32_t e = 0; e < elem_count(c); e++) n += elem_differs(c, e);
     m->corner_values_tri_ = malloc(((size_t)n + 1) * sizeof *m->corner_values_tri_);
-    m->corner_values_ = malloc(3 * ((size_t)n + 1) * sizeof *m->corner_values_);
+    m->corner_values_ = malloc((size_t)nk * ((size_t)n + 1) * sizeof *m->corner_values_);
     if (!m->corner_values_tri_ || !m->corner_values_) return TC_ENOMEM;
     n = 0;
-    for (int32_t t = 0; t < b->nt; t++) {
-        int differs = 0;
-        for (int k = 0; k < 3; k++) differs |= c->cz[3 * t + k] != m->values_[b->tri[3 * t + k]];
-        if (!differs) continue;
-        m->corner_values_tri_[n] = t;
-        memcpy(m->corner_values_ + 3 * (size_t)n, c->cz + 3 * (size_t)t, 3 * sizeof *c->cz);
+    for (int32_t e = 0; e < elem_count(c); e++) {
+        if (!elem_differs(c, e)) continue;
+        m->corner_values_tri_[n] = e;
+        elem_corners(c, e, id);
+        for (int k = 0; k < nk; k++) m->corner_values_[(size_t)nk * n + k] = c->cz[id[k]];
         n++;
     }
     m->desc.ncorner_values = n;
@@ -242,7 +261,7 @@ static int midpoints(ctx *c) {
         int sides = e->flag == TC_CM1 && e->t[1] >= 0 ? 2 : 1;
         for (int k = 0; k < sides; k++, n++) {
             m->midpoint_edge_[2 * n] = e->v[0], m->midpoint_edge_[2 * n + 1] = e->v[1];
-            m->midpoint_tri_[n] = sides == 2 ? e->t[k] : -1;
+            m->midpoint_tri_[n] = sides == 2 ? (c->quads ? e->t[k] / 2 : e->t[k]) : -1;
             m->midpoint_values_[n] = sides == 2 ? value_in(c, e->t[k], mid) : tc_scene_value(c->s, mid[0], mid[1]);
         }
     }
@@ -270,39 +289,62 @@ static double edge_derivative(const ctx *c, int32_t t, const double p[2], const 
     return (-26 * f[0] + 57 * f[1] - 42 * f[2] + 11 * f[3]) / (6 * h);
 }
 
-/* The gradient of triangle t's side at its corner k from the derivatives along
- * its two edges from that corner (a 2x2 solve; the edges are independent). */
-static void corner_gradient(const ctx *c, int32_t t, int k, double g[2]) {
-    const int32_t *tv = c->b->tri + 3 * (size_t)t;
-    const double *p = vxy(c, tv[k]);
+/* The gradient at corner p from the derivatives along its edges to q[0] and
+ * q[1], each taken from the side of the triangle t[j] holding that edge (a
+ * 2x2 solve; the edges are independent). */
+static void corner_gradient(const ctx *c, const double *p, const double *const q[2], const int32_t t[2], double g[2]) {
     double u[2][2], d[2];
     for (int j = 0; j < 2; j++) {
-        const double *q = vxy(c, tv[(k + 1 + j) % 3]);
-        double len = hypot(q[0] - p[0], q[1] - p[1]);
-        u[j][0] = (q[0] - p[0]) / len, u[j][1] = (q[1] - p[1]) / len;
-        d[j] = edge_derivative(c, t, p, u[j], len);
+        double len = hypot(q[j][0] - p[0], q[j][1] - p[1]);
+        u[j][0] = (q[j][0] - p[0]) / len, u[j][1] = (q[j][1] - p[1]) / len;
+        d[j] = edge_derivative(c, t[j], p, u[j], len);
     }
     double det = u[0][0] * u[1][1] - u[0][1] * u[1][0];
     g[0] = (d[0] * u[1][1] - d[1] * u[0][1]) / det;
     g[1] = (u[0][0] * d[1] - u[1][0] * d[0]) / det;
 }
 
+/* Corner k of element e: along the element's own two edges there (a quad's,
+ * not its diagonal), from the half that holds each edge. */
+static void elem_corner_gradient(const ctx *c, int32_t e, int k, double g[2]) {
+    int32_t id[4], n = elem_corners(c, e, id), v[4];
+    for (int j = 0; j < n; j++) v[j] = c->b->tri[id[j]];
+    const double *q[2] = {vxy(c, v[(k + 1) % n]), vxy(c, v[(k + n - 1) % n])};
+    /* quad edges k -> k+1: ab and bc lie in half 2e, cd and da in 2e+1 */
+    int32_t t[2] = {c->quads ? 2 * e + (k >= 2) : e, c->quads ? 2 * e + (k == 0 || k == 3) : e};
+    corner_gradient(c, vxy(c, v[k]), q, t, g);
+}
+
 static int gradients(ctx *c) {
     tc_scene_mesh *m = c->m;
-    int32_t nt = c->b->nt;
-    m->corner_gradients_tri_ = malloc(((size_t)nt + 1) * sizeof *m->corner_gradients_tri_);
-    m->corner_gradients_ = malloc(6 * ((size_t)nt + 1) * sizeof *m->corner_gradients_);
+    int32_t ne = elem_count(c), nk = c->quads ? 4 : 3;
+    m->corner_gradients_tri_ = malloc(((size_t)ne + 1) * sizeof *m->corner_gradients_tri_);
+    m->corner_gradients_ = malloc(2 * (size_t)nk * ((size_t)ne + 1) * sizeof *m->corner_gradients_);
     if (!m->corner_gradients_tri_ || !m->corner_gradients_) return TC_ENOMEM;
-    for (int32_t t = 0; t < nt; t++) {
-        m->corner_gradients_tri_[t] = t;
-        for (int k = 0; k < 3; k++) corner_gradient(c, t, k, m->corner_gradients_ + 6 * (size_t)t + 2 * k);
+    for (int32_t e = 0; e < ne; e++) {
+        m->corner_gradients_tri_[e] = e;
+        for (int k = 0; k < nk; k++) elem_corner_gradient(c, e, k, m->corner_gradients_ + 2 * ((size_t)nk * e + k));
     }
-    m->desc.ncorner_gradients = nt;
-    m->gradient_samples += 24 * (int64_t)nt; /* 4 per edge, 2 edges, 3 corners */
+    m->desc.ncorner_gradients = ne;
+    m->gradient_samples += 8 * (int64_t)nk * ne; /* 4 per edge, 2 edges per corner */
     return TC_OK;
 }
 
 /* ---- assembly ---------------------------------------------------------------------- */
+
+/* Pairs of triangles into quads: (a, b, c) and (a, c, d) are quad (a, b, c, d). */
+static int to_quads(ctx *c) {
+    tc_scene_mesh *m = c->m;
+    int32_t nq = c->b->nt / 2;
+    m->quads_ = malloc(4 * ((size_t)nq + 1) * sizeof *m->quads_);
+    if (!m->quads_) return TC_ENOMEM;
+    for (int32_t q = 0; q < nq; q++) {
+        const int32_t *t = c->b->tri + 6 * (size_t)q;
+        int32_t *v = m->quads_ + 4 * (size_t)q;
+        v[0] = t[0], v[1] = t[1], v[2] = t[2], v[3] = t[5];
+    }
+    return TC_OK;
+}
 
 /* Moves the geometry and polylines out of b and points desc at everything. */
 static void assemble(ctx *c, tc__mbuild *b) {
@@ -312,6 +354,7 @@ static void assemble(ctx *c, tc__mbuild *b) {
     b->xy = NULL, b->tri = NULL;
     d->nverts = b->nv, d->xy = m->xy_;
     d->ntris = b->nt, d->tris = m->tris_;
+    if (c->quads) d->ntris = 0, d->tris = NULL, d->nquads = b->nt / 2, d->quads = m->quads_;
     d->nchan = 1, d->values = m->values_;
     d->corner_values_tri = m->corner_values_tri_, d->corner_values = m->corner_values_;
     d->corner_gradients_tri = m->corner_gradients_tri_, d->corner_gradients = m->corner_gradients_;
@@ -335,7 +378,7 @@ static void assemble(ctx *c, tc__mbuild *b) {
 
 int tc__scene_sample(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild *b, tc_scene_mesh *m) {
     ctx c = {0};
-    c.s = s, c.b = b, c.m = m;
+    c.s = s, c.b = b, c.m = m, c.quads = o->quads;
     int st = b->nt > 0 ? build_edges(&c) : TC_EINVAL;
     if (st == TC_OK) st = build_corners(&c);
     if (st == TC_OK) apply_flags(&c);
@@ -343,6 +386,7 @@ int tc__scene_sample(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild 
     if (st == TC_OK) st = corner_values(&c);
     if (st == TC_OK && o->midpoints) st = midpoints(&c);
     if (st == TC_OK && o->gradients) st = gradients(&c);
+    if (st == TC_OK && c.quads) st = to_quads(&c);
     if (st == TC_OK) assemble(&c, b);
     free(c.e), free(c.tri_edge), free(c.vstart), free(c.vcorner), free(c.cz);
     return st;

@@ -188,5 +188,20 @@ if "$PY" -c 'import json,sys; w = json.load(sys.stdin)["warnings"]; assert w[0][
   <"$T/out" 2>/dev/null; then ok "unknown field: warning in the JSON"
 else bad "unknown field: warning in the JSON" "$(head -c 300 "$T/out")"; fi
 
+# ---- scene --quads: a quad mesh for hermite; adaptive meshes cannot be quads ---------
+run "$CLI" scene penumbra --quads --density 2 -o "$T/quads.json"
+expect "scene --quads: exit 0" 0
+if "$PY" -c 'import json,sys; r = json.load(sys.stdin)
+assert "quads" in r and "triangles" not in r and r["method"] == "hermite", list(r)
+assert all(len(q) == 4 for q in r["quads"])' <"$T/quads.json" 2>/dev/null; then ok "scene --quads: quads, method hermite"
+else bad "scene --quads: quads, method hermite" "$(head -c 300 "$T/quads.json")"; fi
+run "$CLI" ordinates "$T/quads.json"
+expect "ordinates of a scene's quad mesh: exit 0" 0
+if "$PY" -c 'import json,sys; r = json.load(sys.stdin); assert r["method"] == "hermite" and len(r["labels"]) == 22, r["labels"]' \
+  <"$T/out" 2>/dev/null; then ok "hermite ordinates: 22 labels"
+else bad "hermite ordinates: 22 labels" "$(head -c 300 "$T/out")"; fi
+run "$CLI" scene penumbra --quads --mesh adaptive
+expect "scene --quads --mesh adaptive: exit 3" 3 "hanging vertices"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -15,4 +15,10 @@ void recon_scales(const tc_recon *r, double *vs, double *gs);
 void check_continuity(const tc_recon *r, const tmesh *g, double tol, cont_report *rep);
 void random_flagged_mesh(tmesh *g, trng *r, int delaunay, int n);
 
+/* The smooth function the convergence tests refine on, with its gradient. */
+void wave_f(const void *ctx, double x, double y, int ch, double *v, double g[2]);
+/* Max |rec - wave_f| over a fixed cloud of 4000 points, located on an n x n
+ * grid split along diagonal 0 (tmesh_grid(.., diag 0)): cell, then side. */
+double grid_max_error(const tc_recon *rec, int n);
+
 #endif

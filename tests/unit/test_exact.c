@@ -181,30 +181,7 @@ TEST(exact_quadratic_with_estimated_tangents_on_interior) {
 
 /* ---- convergence ---- */
 
-static void wave_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
-    (void)ctx, (void)ch;
-    *v = exp(0.7 * x) * sin(2.5 * y + 0.3) + cos(1.7 * x * y);
-    g[0] = 0.7 * exp(0.7 * x) * sin(2.5 * y + 0.3) - 1.7 * y * sin(1.7 * x * y);
-    g[1] = 2.5 * exp(0.7 * x) * cos(2.5 * y + 0.3) - 1.7 * x * sin(1.7 * x * y);
-}
 
-/* Max error over a fixed cloud of points (located by brute force on the
- * structured grid: cell, then diagonal). */
-static double max_error(const tc_recon *rec, int n) {
-    double worst = 0;
-    trng r;
-    trng_seed(&r, 99);
-    for (int i = 0; i < 4000; i++) {
-        double x = trng_uniform(&r), y = trng_uniform(&r), v, fv, fg[2];
-        int ci = (int)(x * n), cj = (int)(y * n);
-        double fx = x * n - ci, fy = y * n - cj;
-        int32_t t = 2 * (cj * n + ci) + (fy > fx); /* diag 0: (a,b,c) below the diagonal, (a,c,d) above */
-        tc_eval_triangle(rec, t, x, y, &v, NULL);
-        wave_f(NULL, x, y, 0, &fv, fg);
-        worst = fmax(worst, fabs(v - fv));
-    }
-    return worst;
-}
 
 static double observed_order(tc_method method, tc_cross cross, tc_tangents tan, int with_mid) {
     double err[4];
@@ -215,7 +192,7 @@ static double observed_order(tc_method method, tc_cross cross, tc_tangents tan, 
         tmesh_sample(&g, 1, wave_f, NULL, 1, with_mid, 0);
         tc_mesh *m = tmesh_build(&g);
         tc_recon *rec = m ? make(m, method, cross, TC_WEDGES_CORRECTED, tan) : NULL;
-        err[l] = rec ? max_error(rec, ns[l]) : NAN;
+        err[l] = rec ? grid_max_error(rec, ns[l]) : NAN;
         tc_recon_free(rec);
         tc_mesh_free(m);
         tmesh_free(&g);

@@ -318,14 +318,9 @@ TEST(request_misspelt_field_warns_with_suggestion) {
     tc_diags_free(&d);
 }
 
-TEST(request_future_fields_do_not_warn) {
-    tc_request *r = NULL;
-    tc_diags d;
-    CHECK(parse_str("{" MESH1 ", \"quads\": []}", TC_REQ_MESH, &r, &d) ==
-          TC_REQ_OK);
-    CHECK(d.count == 0 && d.warnings == 0);
-    tc_request_free(r);
-    tc_diags_free(&d);
+/* "quads" is the mesh's other form (test_quads.c reads it): never both. */
+TEST(request_quads_and_triangles_are_exclusive) {
+    INVALID("{" MESH1 ", \"quads\": []}", "quads", "give either triangles or quads, not both");
 }
 
 /* The render fields: parsed when valid, each bad one reported at its path. */
