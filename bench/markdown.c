@@ -358,6 +358,15 @@ static void scene_keys(sctx *c) {
     ratio_keys(c, "x_given", ct, get(c, rep, "ct-given"));
     ratio_keys(c, "x_est", get(c, rep, "ct-estimate"), ct);
     ratio_keys(c, "x_lin4", get(c, rep, "linear4"), ct);
+    /* The other smooth schemes (issue 5): Powell-Sabin on the triangles, Hermite on the quads. */
+    result_keys(c, "ps", get(c, rep, "powell-sabin"));
+    result_keys(c, "herm", get(c, rep, "hermite"));
+    result_keys(c, "hermz", get(c, rep, "hermite-zero-twist"));
+    ratio_keys(c, "x_ps", get(c, rep, "powell-sabin"), ct);
+    ratio_keys(c, "x_herm", get(c, rep, "hermite"), ct);
+    ratio_keys(c, "x_pslin", get(c, rep, "powell-sabin"), lin);
+    ratio_keys(c, "x_hermlin", get(c, rep, "hermite"), lin);
+    ratio_keys(c, "x_hermz", get(c, rep, "hermite-zero-twist"), get(c, rep, "hermite"));
     const bench_result *lit_any = bench_results_find(c->rs, c->scene, rep, bench_method_find("ct-literal"), 0);
     if (lit_any && !lit_any->ok) set_str(c, "lit_note", lit_any->note);
 
