@@ -70,7 +70,10 @@ static void machine_info(bench_run_info *info) {
     char n[32];
     bench_command_line("nproc 2>/dev/null", n, sizeof n, "0");
     info->nproc = atoi(n);
-    bench_command_line("git describe --always --dirty 2>/dev/null", info->commit, sizeof info->commit, "unknown");
+    /* "-dirty" only for changed sources: the report's own earlier outputs under docs/ do not count. */
+    bench_command_line("c=$(git rev-parse --short HEAD 2>/dev/null) && { git diff --quiet HEAD -- . ':(exclude)docs'"
+                       " 2>/dev/null || c=\"$c-dirty\"; echo \"$c\"; }",
+                       info->commit, sizeof info->commit, "unknown");
 }
 
 static int mesh_wanted(const args *a, const bench_mesh_spec *m) {
