@@ -5,8 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#define OPT(m, c, w, t) {TC_METHOD_##m, TC_CROSS_##c, TC_WEDGES_##w, TC_TANGENTS_##t, TC_TWIST_ESTIMATE}
-#define OPT_TWIST(m, t, tw) {TC_METHOD_##m, TC_CROSS_NORMAL, TC_WEDGES_CORRECTED, TC_TANGENTS_##t, TC_TWIST_##tw}
+#define OPT(m, c, w, t) {TC_METHOD_##m, TC_CROSS_##c, TC_WEDGES_##w, TC_TANGENTS_##t, TC_TWIST_ESTIMATE, TC_AVERAGE_AREA}
+#define OPT_TWIST(m, t, tw) {TC_METHOD_##m, TC_CROSS_NORMAL, TC_WEDGES_CORRECTED, TC_TANGENTS_##t, TC_TWIST_##tw, TC_AVERAGE_AREA}
 
 /* name, options (method, cross_boundary, wedges, tangents[, twist]), uses
  * midpoints, uses gradients, runs on quads, colour, marker, description. */

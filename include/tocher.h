@@ -194,12 +194,22 @@ typedef enum {
     TC_TWIST_ZERO          /* H = 0: f_st = g . x_st, zero on parallelograms */
 } tc_twist;
 
+/* How a wedge's faces' planes are averaged into one (Figure 6 step 1, and the
+ * coupling of two wedges across a C0 edge). */
+typedef enum {
+    TC_AVERAGE_AREA = 0, /* area-weighted mean of the gradients: linear in the data,
+                          * slivers cannot tilt it */
+    TC_AVERAGE_NORMALS   /* the paper's normalized sum of unit normals (always with
+                          * wedges "literal") */
+} tc_average;
+
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;
     tc_wedges wedges;
     tc_tangents tangents;
     tc_twist twist;
+    tc_average average;
 } tc_options;
 
 void tc_options_default(tc_options *o);
@@ -210,12 +220,14 @@ const char *tc_cross_name(tc_cross c);
 const char *tc_wedges_name(tc_wedges w);
 const char *tc_tangents_name(tc_tangents t);
 const char *tc_twist_name(tc_twist t);
+const char *tc_average_name(tc_average a);
 /* Parse a name; returns 0 and sets *out, or -1 if the name is unknown. */
 int tc_method_parse(const char *s, tc_method *out);
 int tc_cross_parse(const char *s, tc_cross *out);
 int tc_wedges_parse(const char *s, tc_wedges *out);
 int tc_tangents_parse(const char *s, tc_tangents *out);
 int tc_twist_parse(const char *s, tc_twist *out);
+int tc_average_parse(const char *s, tc_average *out);
 
 typedef struct tc_recon tc_recon;
 

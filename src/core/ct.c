@@ -57,9 +57,17 @@ static double tau_affine(const tc_ct_input *x, int32_t t, int k, const geom *g) 
 
 /* The linear-derivative rule: the derivative along (c - a) - tau (b - a) is
  * linear on edge ab, which fixes cab from the edge and vertex ordinates. */
+/* The mean of `base` and two more ordinates, as base plus the mean offset:
+ * exact when all three are equal (constant data is reproduced bit for bit). */
+static double mean3(double base, double p, double q) { return base + ((p - base) + (q - base)) / 3; }
+
+/* Worked relative to aaa: on a short edge of a steep function the ordinates
+ * differ little from one another, and differences taken first keep the
+ * cancellation below rounding of the local variation, not of |z|. */
 static double cab_linear(const double *o, int a, int b, double tau) {
-    double aaa = o[a], bbb = o[b], aab = o[IIJ[a][b]], abb = o[IIJ[b][a]];
-    return 0.5 * (o[CII[a]] + o[CII[b]]) - (1 - tau) * (0.5 * (aaa + abb) - aab) - tau * (0.5 * (aab + bbb) - abb);
+    double aaa = o[a], bbb = o[b] - aaa, aab = o[IIJ[a][b]] - aaa, abb = o[IIJ[b][a]] - aaa;
+    double caa = o[CII[a]] - aaa, cbb = o[CII[b]] - aaa;
+    return aaa + (0.5 * (caa + cbb) - (1 - tau) * (0.5 * abb - aab) - tau * (0.5 * (aab + bbb) - abb));
 }
 
 /* The paper's rule: plane through the middle of aab-abb with the averaged
@@ -71,7 +79,13 @@ static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geo
     int c1 = tc__eff_flag(m, x->ws->honor_flags, 3 * t + k) == TC_C1;
     const double *src = c1 ? x->cg : x->in;
     double gn[2], e[2], gp[2];
-    tc__avg2(src + 2 * (ca * nc + ch), src + 2 * (cb * nc + ch), gn);
+    const double *ga = src + 2 * (ca * nc + ch), *gb = src + 2 * (cb * nc + ch);
+    if (x->by_area) { /* linear in the data, like the wedge planes */
+        gn[0] = 0.5 * (ga[0] + gb[0]);
+        gn[1] = 0.5 * (ga[1] + gb[1]);
+    } else {
+        tc__avg2(ga, gb, gn);
+    }
     tc__sub(e, g->r[b], g->r[a]);
     double rise = 3 * (o[IIJ[b][a]] - o[IIJ[a][b]]); /* required g.e */
     if (x->wedges == TC_WEDGES_CORRECTED) {
@@ -103,7 +117,7 @@ static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef
                 if (j != i)
                     o[IIJ[i][j]] = o[i] + (gi[0] * (g->r[j][0] - g->r[i][0]) + gi[1] * (g->r[j][1] - g->r[i][1])) / 3;
         }
-        for (int i = 0; i < 3; i++) o[CII[i]] = (o[i] + o[IIJ[i][(i + 1) % 3]] + o[IIJ[i][(i + 2) % 3]]) / 3;
+        for (int i = 0; i < 3; i++) o[CII[i]] = mean3(o[i], o[IIJ[i][(i + 1) % 3]], o[IIJ[i][(i + 2) % 3]]);
         for (int k = 0; k < 3; k++) {
             if (x->cross != TC_CROSS_SALESIN) {
                 o[CIJ[k]] = cab_linear(o, k, (k + 1) % 3, g->tau[k]);
@@ -117,8 +131,8 @@ static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef
                 return tc_diags_add(dg, TC_SEV_ERROR, path, "the cross-boundary ordinate of edge %d overflows", k);
             }
         }
-        for (int i = 0; i < 3; i++) o[CCI[i]] = (o[CII[i]] + o[CIJ[i]] + o[CIJ[(i + 2) % 3]]) / 3;
-        o[CT_CCC] = (o[CT_CCU] + o[CT_CCV] + o[CT_CCW]) / 3;
+        for (int i = 0; i < 3; i++) o[CCI[i]] = mean3(o[CII[i]], o[CIJ[i]], o[CIJ[(i + 2) % 3]]);
+        o[CT_CCC] = mean3(o[CT_CCU], o[CT_CCV], o[CT_CCW]);
     }
     return TC_OK;
 }
@@ -150,15 +164,19 @@ void tc__ct_eval_sub(const double o[TC_CT_ORDINATES], int sub, const double lam[
     const int *s = SUB[sub];
     int a = (sub + 1) % 3, b = (sub + 2) % 3;
     double A = lam[a] - lam[sub], B = lam[b] - lam[sub], C = 3 * lam[sub];
-    double b300 = o[s[0]], b030 = o[s[1]], b003 = o[s[2]], b210 = o[s[3]], b120 = o[s[4]];
-    double b201 = o[s[5]], b021 = o[s[6]], b102 = o[s[7]], b012 = o[s[8]], b111 = o[s[9]];
+    /* Difference form about the ordinate of the corner with the largest weight:
+     * exact at the corners (the other weights are 0) and for constant data
+     * (every difference is 0); the gradient is unchanged by the shift. */
+    double ref = A >= B ? (A >= C ? o[s[0]] : o[s[2]]) : (B >= C ? o[s[1]] : o[s[2]]);
+    double b300 = o[s[0]] - ref, b030 = o[s[1]] - ref, b003 = o[s[2]] - ref, b210 = o[s[3]] - ref;
+    double b120 = o[s[4]] - ref, b201 = o[s[5]] - ref, b021 = o[s[6]] - ref, b102 = o[s[7]] - ref;
+    double b012 = o[s[8]] - ref, b111 = o[s[9]] - ref;
     /* One de Casteljau step: the quadratics qa, qb, qc (a third of the partial
-     * derivatives), then the value. No factor 3 is applied before the value, so
-     * at a corner the value is that corner's ordinate exactly. */
+     * derivatives), then the value. */
     double qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
     double qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
     double qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
-    *value = A * qa + B * qb + C * qc;
+    *value = ref + (A * qa + B * qb + C * qc);
     if (!grad) return;
     double D[3]; /* d value / d lam */
     D[a] = 3 * qa;

@@ -23,6 +23,7 @@ typedef struct {
     const double *in;   /* [3nt][nc][2] corner input planes (the paper's N_u; salesin) */
     tc_cross cross;
     tc_wedges wedges;   /* literal: salesin uses the paper's 3D Project */
+    int by_area;        /* average "area" with corrected wedges: salesin's Avg is a plain mean */
 } tc_ct_input;
 
 /* Fills coef[nt][nc][19]. Fails only for salesin+literal where Project is singular. */

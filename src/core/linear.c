@@ -60,9 +60,16 @@ static void grad_from(const double D[3], const double dl1[2], const double dl2[2
     grad[1] = (D[1] - D[0]) * dl1[1] + (D[2] - D[0]) * dl2[1];
 }
 
+/* Corner i with the largest weight: the reference of the difference form. */
+static int heaviest(const double lam[3]) {
+    return lam[0] >= lam[1] ? (lam[0] >= lam[2] ? 0 : 2) : (lam[1] >= lam[2] ? 1 : 2);
+}
+
 void tc__linear_eval(const double *o, const tc_at *at, double *value, double *grad) {
     const double *lam = at->lam;
-    *value = lam[0] * o[0] + lam[1] * o[1] + lam[2] * o[2];
+    /* About the heaviest corner: exact at corners and for constant data. */
+    double ref = o[heaviest(lam)];
+    *value = ref + (lam[0] * (o[0] - ref) + lam[1] * (o[1] - ref) + lam[2] * (o[2] - ref));
     if (grad) grad_from(o, at->dl1, at->dl2, grad);
 }
 
@@ -74,12 +81,15 @@ void tc__linear4_eval(const double *o, const tc_at *at, double *value, double *g
     int i = lam[0] >= 0.5 ? 0 : lam[1] >= 0.5 ? 1 : lam[2] >= 0.5 ? 2 : -1;
     if (i >= 0) {
         int j = (i + 1) % 3, k = (i + 2) % 3;
-        *value = (2 * lam[i] - 1) * o[i] + 2 * lam[j] * mid[i] + 2 * lam[k] * mid[k];
+        /* About the corner value: its weight 2 lam[i] - 1 plus the others is 1. */
+        *value = o[i] + (2 * lam[j] * (mid[i] - o[i]) + 2 * lam[k] * (mid[k] - o[i]));
         D[i] = 2 * o[i];
         D[j] = 2 * mid[i];
         D[k] = 2 * mid[k];
     } else {
-        *value = (1 - 2 * lam[2]) * mid[0] + (1 - 2 * lam[0]) * mid[1] + (1 - 2 * lam[1]) * mid[2];
+        double w[3] = {1 - 2 * lam[2], 1 - 2 * lam[0], 1 - 2 * lam[1]}; /* of mid[0], mid[1], mid[2] */
+        double ref = mid[heaviest(w)];
+        *value = ref + (w[0] * (mid[0] - ref) + w[1] * (mid[1] - ref) + w[2] * (mid[2] - ref));
         D[0] = -2 * mid[1];
         D[1] = -2 * mid[2];
         D[2] = -2 * mid[0];

@@ -70,7 +70,7 @@ static int ct_planes(struct tc_recon *r, int honor, ct_scratch *s, tc_diags *dg)
     if (!s->in || !s->wp || !r->cgrad) return TC_ENOMEM;
     const double *cz = s->cz_own ? s->cz_own : m->cz;
     if ((st = tc__corner_inputs(m, &s->ws, cz, r->opt.tangents, s->in, dg)) != TC_OK) return st;
-    if ((st = tc__wedge_planes(m, &s->ws, s->in, r->opt.wedges, s->wp, dg)) != TC_OK) return st;
+    if ((st = tc__wedge_planes(m, &s->ws, s->in, r->opt.wedges, r->opt.average, s->wp, dg)) != TC_OK) return st;
     for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
         memcpy(r->cgrad + c * stride, s->wp + (size_t)s->ws.of_corner[c] * stride, stride * sizeof *r->cgrad);
     return TC_OK;
@@ -91,7 +91,8 @@ static int build_ct(struct tc_recon *r, tc_diags *dg) {
     int st = ct_planes(r, honor, &s, dg);
     if (st == TC_OK) {
         tc_ct_input x = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->cgrad, s.in,
-                         r->opt.cross_boundary, r->opt.wedges};
+                         r->opt.cross_boundary, r->opt.wedges,
+                         r->opt.wedges == TC_WEDGES_CORRECTED && r->opt.average == TC_AVERAGE_AREA};
         st = tc__ct_ordinates(&x, r->coef, dg);
     }
     ct_scratch_free(&s);

@@ -14,6 +14,6 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
  * then for wedges with C0 sides the adjustment of Figure 6 steps 3-4, either
  * corrected or literal. Fails only for `literal` when its Project is singular. */
 int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *in, tc_wedges mode,
-                     double *out, tc_diags *dg);
+                     tc_average average, double *out, tc_diags *dg);
 
 #endif

@@ -12,24 +12,59 @@
 
 typedef struct {
     const tc_wedge_set *ws;
-    const double *avg; /* [nw][nc][2] step 1: each wedge's average plane */
+    const double *avg;  /* [nw][nc][2] step 1: each wedge's average plane */
+    const double *area; /* [nw] total area of each wedge's faces (by_area) */
     int nc;
+    int by_area;        /* average "area" (else unit normals) */
 } ctx;
 
 static const double *avg_of(const ctx *x, int32_t w, int ch) { return x->avg + (2 * ((size_t)w * x->nc + ch)); }
 
-/* Step 1, AverageNormalForWedge: normalized sum of the faces' unit normals.
- * Identical inputs (a given per-vertex plane) are returned exactly. */
-static void wedge_average(const tc_wedge_set *ws, const tc_wedge *w, const double *in, int nc, double *out) {
+static double face_area(const struct tc_mesh *m, int32_t t) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    double e1[2], e2[2];
+    tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
+    tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
+    return 0.5 * fabs(tc__cross(e1, e2));
+}
+
+/* average "area": the area-weighted mean of the faces' gradients. It is linear in
+ * the data (scaling every value scales the plane, which DESIGN.md's numerics
+ * ask of the whole reconstruction), and a sliver — a face of near-zero area
+ * whose plane, from three nearly collinear samples, can be wildly steep —
+ * cannot tilt it (the stiff scene of the report). */
+static void area_mean(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *in, int nc,
+                      double *out, double *total) {
+    size_t stride = 2 * (size_t)nc;
+    double sum[2 * TC_MAX_CHANNELS] = {0}, wsum = 0;
+    for (int32_t i = 0; i < w->count; i++) {
+        int32_t c = ws->corners[w->first + i];
+        double a = face_area(m, c / 3);
+        for (size_t k = 0; k < stride; k++) sum[k] += a * in[(size_t)c * stride + k];
+        wsum += a;
+    }
+    for (size_t k = 0; k < stride; k++) out[k] = sum[k] / wsum;
+    *total = wsum;
+}
+
+/* Step 1, AverageNormalForWedge. average "normals" (always with wedges
+ * "literal"): the paper's normalized sum of the faces' unit normals. Identical inputs (a given per-vertex plane) are
+ * returned exactly in both modes. */
+static void wedge_average(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *in,
+                          int by_area, double *out, double *total) {
+    int nc = m->nc;
     size_t stride = 2 * (size_t)nc;
     const double *g0 = in + (size_t)ws->corners[w->first] * stride;
     int same = 1;
+    if (by_area) area_mean(m, ws, w, in, nc, out, total);
+    else *total = 0;
     for (int32_t i = 1; i < w->count && same; i++)
         same = !memcmp(g0, in + (size_t)ws->corners[w->first + i] * stride, stride * sizeof *g0);
     if (same) {
         memcpy(out, g0, stride * sizeof *out);
         return;
     }
+    if (by_area) return;
     for (int ch = 0; ch < nc; ch++) {
         double S[3] = {0, 0, 0};
         for (int32_t i = 0; i < w->count; i++)
@@ -46,7 +81,13 @@ static void coupling(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
     int32_t o = w->across[s];
     int cw = w->collinear, co = x->ws->w[o].collinear;
     const double *a = avg_of(x, wi, ch), *b = avg_of(x, o, ch);
-    if (cw == co) {
+    if (cw == co && x->by_area) {
+        /* The two wedges' planes weighted by their areas: linear in the data,
+         * and the same bits whichever wedge asks (sums commute). */
+        double wa = x->area[wi], wb = x->area[o];
+        g[0] = (wa * a[0] + wb * b[0]) / (wa + wb);
+        g[1] = (wa * a[1] + wb * b[1]) / (wa + wb);
+    } else if (cw == co) {
         tc__avg2(a, b, g);
     } else {
         const double *src = cw ? a : b; /* the 180-degree wedge's own plane wins */
@@ -121,15 +162,22 @@ static int literal(const ctx *x, int32_t wi, int ch, double out[2]) {
 }
 
 int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *in, tc_wedges mode,
-                     double *out, tc_diags *dg) {
+                     tc_average average, double *out, tc_diags *dg) {
+    /* Figure 6 as printed averages unit normals, whatever was asked. */
+    int by_area = mode == TC_WEDGES_CORRECTED && average == TC_AVERAGE_AREA;
     int nc = m->nc;
     size_t stride = 2 * (size_t)nc;
-    for (int32_t w = 0; w < ws->nw; w++) wedge_average(ws, &ws->w[w], in, nc, out + (size_t)w * stride);
-    if (ws->ncoupled == 0) return TC_OK; /* no C0 sides: the averages are final */
-    double *avg = malloc((size_t)ws->nw * stride * sizeof *avg);
-    if (!avg) return TC_ENOMEM;
+    double *area = malloc(((size_t)ws->nw + 1) * sizeof *area);
+    if (!area) return TC_ENOMEM;
+    for (int32_t w = 0; w < ws->nw; w++)
+        wedge_average(m, ws, &ws->w[w], in, by_area, out + (size_t)w * stride, &area[w]);
+    double *avg = ws->ncoupled ? malloc((size_t)ws->nw * stride * sizeof *avg) : NULL;
+    if (ws->ncoupled == 0 || !avg) { /* no C0 sides: the averages are final */
+        free(area);
+        return ws->ncoupled == 0 ? TC_OK : TC_ENOMEM;
+    }
     memcpy(avg, out, (size_t)ws->nw * stride * sizeof *avg);
-    ctx x = {ws, avg, nc};
+    ctx x = {ws, avg, area, nc, by_area};
     int st = TC_OK;
     for (int32_t w = 0; w < ws->nw; w++) {
         const tc_wedge *wd = &ws->w[w];
@@ -149,5 +197,6 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
         }
     }
     free(avg);
+    free(area);
     return st;
 }

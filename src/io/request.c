@@ -825,6 +825,7 @@ NAME_ADAPTERS(cross, tc_cross)
 NAME_ADAPTERS(wedges, tc_wedges)
 NAME_ADAPTERS(tangents, tc_tangents)
 NAME_ADAPTERS(twist, tc_twist)
+NAME_ADAPTERS(average, tc_average)
 
 /* "a, b, c": every name the enum knows (values are dense from 0). */
 static void list_names(name_of_fn name_of, char *buf, size_t cap) {
@@ -872,6 +873,11 @@ static void parse_tangents(reader *rd, const cJSON *v, const jpath *p) {
     int x;
     if (!read_name(rd, v, p, tangents_parse_int, tangents_name_int, &x))
         rd->r->opt.tangents = (tc_tangents)x;
+}
+
+static void parse_average(reader *rd, const cJSON *v, const jpath *p) {
+    int x;
+    if (!read_name(rd, v, p, average_parse_int, average_name_int, &x)) rd->r->opt.average = (tc_average)x;
 }
 
 static void parse_twist(reader *rd, const cJSON *v, const jpath *p) {
@@ -1015,8 +1021,8 @@ static void parse_reference(reader *rd, const cJSON *v, const jpath *p) {
 
 static const field method_fields[] = {{"method", NULL, 0, ""},   {"cross_boundary", NULL, 0, ""},
                                      {"wedges", NULL, 0, ""},   {"tangents", NULL, 0, ""},
-                                     {"twist", NULL, 0, ""}};
-enum { MF_METHOD, MF_CROSS, MF_WEDGES, MF_TANGENTS, MF_TWIST, MF_NFIELDS };
+                                     {"twist", NULL, 0, ""},    {"average", NULL, 0, ""}};
+enum { MF_METHOD, MF_CROSS, MF_WEDGES, MF_TANGENTS, MF_TWIST, MF_AVERAGE, MF_NFIELDS };
 
 /* One entry of "methods": a method name, or an object of options (the
  * request's own options are the defaults for the fields it leaves out). */
@@ -1043,6 +1049,9 @@ static void read_method(reader *rd, const cJSON *e, const jpath *p, tc_options *
         o->tangents = (tc_tangents)x;
     if (found[MF_TWIST] && !read_name(rd, found[MF_TWIST], &pk[MF_TWIST], twist_parse_int, twist_name_int, &x))
         o->twist = (tc_twist)x;
+    if (found[MF_AVERAGE] &&
+        !read_name(rd, found[MF_AVERAGE], &pk[MF_AVERAGE], average_parse_int, average_name_int, &x))
+        o->average = (tc_average)x;
 }
 
 static void parse_methods(reader *rd, const cJSON *v, const jpath *p) {
@@ -1091,6 +1100,7 @@ static const field top_fields[] = {
     {"wedges", parse_wedges, 0, ""},
     {"tangents", parse_tangents, 0, ""},
     {"twist", parse_twist, 0, ""},
+    {"average", parse_average, 0, ""},
     {"points", parse_points, ROLE_POINTS, "[[x, y], ...]"},
     {"with_gradients", parse_with_gradients, 0, ""},
     {"viewport", parse_viewport, ROLE_VIEWPORT, "{x0, y0, x1, y1, width, height}"},

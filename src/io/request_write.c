@@ -156,6 +156,8 @@ static void options(tc_strbuf *b, const tc_options *o) {
     tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
     member(b, "tangents");
     tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
+    member(b, "average");
+    tc_strbuf_json_string(b, tc_average_name(o->average));
     if (o->method != TC_METHOD_HERMITE) return; /* the option only hermite reads */
     member(b, "twist");
     tc_strbuf_json_string(b, tc_twist_name(o->twist));

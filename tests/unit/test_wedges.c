@@ -330,10 +330,11 @@ TEST(wedges_kink_kept_with_estimated_and_midpoint_tangents) {
     }
 }
 
-/* Step 1 of Figure 6: a wedge's plane is the normalized sum of its faces'
- * unit normals (unweighted). Checked at an interior C1 vertex whose faces all
- * bring different planes, against a direct computation. */
-TEST(wedges_average_is_normalized_sum_of_unit_normals) {
+/* Step 1 of Figure 6, both ways: average "normals" (the paper's) gives the
+ * normalized sum of the faces' unit normals, unweighted; average "area" (the
+ * default) the area-weighted mean of their gradients. Checked at an interior C1
+ * vertex whose faces all bring different planes, against direct computations. */
+TEST(wedges_average_definitions) {
     trng r;
     trng_seed(&r, tc_test_seed() + 5);
     tmesh g;
@@ -347,27 +348,34 @@ TEST(wedges_average_is_normalized_sum_of_unit_normals) {
         for (int k = 0; k < 6; k++) g.cg[6 * t + k] = 4 * trng_uniform(&r) - 2;
     }
     tc_mesh *m = tmesh_build(&g);
-    tc_recon *rec = NULL;
-    tc_options o;
-    tc_options_default(&o);
-    o.tangents = TC_TANGENTS_GIVEN;
-    if (m) CHECK(tc_recon_new(m, &o, &rec, NULL) == TC_OK);
     int32_t v = tmesh_gv(4, 2, 2);
-    double S[3] = {0, 0, 0};
-    for (int32_t c = 0; rec && c < 3 * g.nt; c++) {
+    double S[3] = {0, 0, 0}, A[2] = {0, 0}, wsum = 0;
+    for (int32_t c = 0; c < 3 * g.nt; c++) {
         if (g.tri[c] != v) continue;
         const double *gc = g.cg + 2 * c;
         double len = sqrt(1 + gc[0] * gc[0] + gc[1] * gc[1]);
         S[0] -= gc[0] / len, S[1] -= gc[1] / len, S[2] += 1 / len;
+        const double *p0 = g.xy + 2 * g.tri[3 * (c / 3)], *p1 = g.xy + 2 * g.tri[3 * (c / 3) + 1],
+                     *p2 = g.xy + 2 * g.tri[3 * (c / 3) + 2];
+        double area = 0.5 * fabs((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]));
+        A[0] += area * gc[0], A[1] += area * gc[1], wsum += area;
     }
-    double want[2] = {-S[0] / S[2], -S[1] / S[2]};
-    for (int32_t c = 0; rec && c < 3 * g.nt; c++) {
-        if (g.tri[c] != v) continue;
-        const double *got = tc_recon_corner_gradients(rec) + 2 * c;
-        CHECK_NEAR(got[0], want[0], 1e-14);
-        CHECK_NEAR(got[1], want[1], 1e-14);
+    double want[2][2] = {{A[0] / wsum, A[1] / wsum}, {-S[0] / S[2], -S[1] / S[2]}};
+    for (int avg = 0; avg < 2 && m; avg++) {
+        tc_options o;
+        tc_options_default(&o);
+        o.tangents = TC_TANGENTS_GIVEN;
+        o.average = avg ? TC_AVERAGE_NORMALS : TC_AVERAGE_AREA;
+        tc_recon *rec = NULL;
+        CHECK(tc_recon_new(m, &o, &rec, NULL) == TC_OK);
+        for (int32_t c = 0; rec && c < 3 * g.nt; c++) {
+            if (g.tri[c] != v) continue;
+            const double *got = tc_recon_corner_gradients(rec) + 2 * c;
+            CHECK_NEAR(got[0], want[avg][0], 1e-14);
+            CHECK_NEAR(got[1], want[avg][1], 1e-14);
+        }
+        tc_recon_free(rec);
     }
-    tc_recon_free(rec);
     tc_mesh_free(m);
     tmesh_free(&g);
 }
