@@ -111,6 +111,40 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
     return TC_OK;
 }
 
+/* Above this aspect ratio (longest edge over shortest altitude) a triangle is
+ * reported: it stays valid and continuous, but its pieces can overshoot. */
+#define ASPECT_WARN 1e4
+
+static double aspect_ratio(const struct tc_mesh *m, int32_t t) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    double e[3][2], longest = 0;
+    for (int k = 0; k < 3; k++) {
+        tc__sub(e[k], tc__vxy(m, v[(k + 1) % 3]), tc__vxy(m, v[k]));
+        longest = fmax(longest, hypot(e[k][0], e[k][1]));
+    }
+    double area2 = fabs(tc__cross(e[0], e[2])); /* twice the area */
+    return longest * longest / area2;
+}
+
+/* One warning for all the slivers, naming the worst. */
+static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
+    int32_t n = 0, worst = -1;
+    double worst_ar = 0;
+    for (int32_t t = 0; t < m->nt; t++) {
+        double ar = aspect_ratio(m, t);
+        if (ar <= ASPECT_WARN) continue;
+        n++;
+        if (ar > worst_ar) worst_ar = ar, worst = t;
+    }
+    if (!n) return;
+    char path[48];
+    tc__elem_path(m, worst, path, sizeof path);
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "%d triangles have an aspect ratio above %.0e (longest edge / shortest altitude); the worst, %s, "
+                 "%.3g: the reconstruction stays continuous but may overshoot there",
+                 (int)n, ASPECT_WARN, path, worst_ar);
+}
+
 /* A vertex no triangle uses is harmless (it is never evaluated) but is
  * usually a front-end bug, so it is reported as a warning. */
 static void warn_unused(const struct tc_mesh *m, tc_diags *dg) {
@@ -137,6 +171,7 @@ static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     if ((st = tc__flags_apply(m, d, dg)) != TC_OK) return st;
     if ((st = tc__samples_build(m, d, dg)) != TC_OK) return st;
     warn_unused(m, dg);
+    warn_slivers(m, dg);
     return TC_OK;
 }
 

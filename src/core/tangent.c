@@ -148,10 +148,69 @@ static int source_of(const struct tc_mesh *m, int32_t c, tc_tangents mode, tc_di
     return -1;
 }
 
+/* ---- bounding estimated planes ---- */
+
+/* An estimated plane may move an edge ordinate (z_v + g.e/3) at most this many
+ * times the spread of the data in its wedge away from z_v. Exact planes of
+ * smooth data stay far inside it (|g.e| is about the change of z along e); a
+ * plane from three nearly collinear samples on a sliver does not. */
+#define PLANE_BOUND 4.0
+
+typedef struct {
+    int32_t clamped, worst_vertex;
+    double worst_factor; /* the largest slope reduction applied */
+} clamp_stats;
+
+/* Scales the estimated plane g of corner c down, channel by channel, so that no
+ * edge of its wedge's faces sees |g.e| > PLANE_BOUND * (spread of the values
+ * of the wedge's corners). Returns the factor applied (1: untouched). */
+static double bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
+                          double *g) {
+    int nc = m->nc;
+    double worst = 1;
+    for (int ch = 0; ch < nc; ch++) {
+        double lo = INFINITY, hi = -INFINITY, rise = 0, *gc = g + 2 * ch;
+        for (int32_t i = 0; i < w->count; i++) {
+            int32_t c = ws->corners[w->first + i], t = c / 3;
+            for (int k = 0; k < 3; k++) {
+                double z = cz[(3 * (size_t)t + (size_t)k) * nc + ch], e[2];
+                lo = fmin(lo, z), hi = fmax(hi, z);
+                tc__sub(e, tc__vxy(m, m->tri[3 * (size_t)t + k]), tc__vxy(m, w->v));
+                rise = fmax(rise, fabs(tc__dot(gc, e)));
+            }
+        }
+        double limit = PLANE_BOUND * (hi - lo);
+        if (rise > limit) { /* limit may be 0: flat data, flat plane */
+            double f = limit > 0 ? limit / rise : 0;
+            gc[0] *= f, gc[1] *= f;
+            worst = fmin(worst, f);
+        }
+    }
+    return worst;
+}
+
+static void note_clamp(clamp_stats *cs, double f, int32_t v) {
+    if (f >= 1) return;
+    cs->clamped++;
+    if (cs->clamped == 1 || f < cs->worst_factor) cs->worst_factor = f, cs->worst_vertex = v;
+}
+
+/* One warning for all the planes bounded, naming the worst. */
+static void warn_clamps(const clamp_stats *cs, tc_diags *dg) {
+    if (!cs->clamped) return;
+    char path[48];
+    snprintf(path, sizeof path, "vertices[%d]", (int)cs->worst_vertex);
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "%d estimated tangent planes were too steep for their data and were scaled down; the most, at "
+                 "vertex %d, to %.3g of its slope (ill-conditioned samples, e.g. slivers)",
+                 (int)cs->clamped, (int)cs->worst_vertex, cs->worst_factor);
+}
+
 int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, tc_tangents mode,
                       double *in, tc_diags *dg) {
     size_t stride = 2 * (size_t)m->nc;
     int st = TC_OK;
+    clamp_stats cs = {0, -1, 1};
     for (int32_t w = 0; w < ws->nw; w++) {
         const tc_wedge *wd = &ws->w[w];
         double est[2 * TC_MAX_CHANNELS];
@@ -161,14 +220,21 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
             double *g = in + (size_t)c * stride;
             switch (source_of(m, c, mode, dg)) {
             case SRC_GIVEN: memcpy(g, m->cg + (size_t)c * stride, stride * sizeof *g); break;
-            case SRC_MIDPOINTS: from_midpoints(m, cz, c, g); break;
+            case SRC_MIDPOINTS:
+                from_midpoints(m, cz, c, g);
+                note_clamp(&cs, bound_plane(m, ws, wd, cz, g), wd->v);
+                break;
             case SRC_ESTIMATE: /* one fit per wedge, shared by its corners */
-                if (!estimated++) estimate(m, ws, wd, cz, est);
+                if (!estimated++) {
+                    estimate(m, ws, wd, cz, est);
+                    note_clamp(&cs, bound_plane(m, ws, wd, cz, est), wd->v);
+                }
                 memcpy(g, est, stride * sizeof *g);
                 break;
             default: st = TC_EINVAL;
             }
         }
     }
+    if (st == TC_OK) warn_clamps(&cs, dg);
     return st;
 }

@@ -10,12 +10,20 @@
 #include "core/plane.h"
 #include "core/tangent.h"
 
+/* Below this |sin| of the angle between its sides, a wedge counts as nearly
+ * straight (within about 14.5 degrees of 180, or of 0/360): the plane through
+ * its two side ordinates would grow like 1/sin, so it is blended, in
+ * proportion to 1 - sin/NEAR_STRAIGHT, towards a rule that stays bounded. */
+#define NEAR_STRAIGHT 0.25
+
 typedef struct {
     const tc_wedge_set *ws;
     const double *avg;  /* [nw][nc][2] step 1: each wedge's average plane */
+    const double *vplane; /* [nw][nc][2] the mean plane of the wedge's vertex (all its wedges) */
     const double *area; /* [nw] total area of each wedge's faces (by_area) */
     int nc;
     int by_area;        /* average "area" (else unit normals) */
+    int corrected;      /* wedges "corrected": nearly straight wedges are blended */
 } ctx;
 
 static const double *avg_of(const ctx *x, int32_t w, int ch) { return x->avg + (2 * ((size_t)w * x->nc + ch)); }
@@ -96,10 +104,42 @@ static void coupling(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
     }
 }
 
-/* The plane each side of the wedge takes its edge slope from. */
+/* |sin| of the angle between a wedge's two sides (0 when they share a line). */
+static double side_sin(const tc_wedge *w) {
+    const double *a = w->dir[0], *b = w->dir[1];
+    return fabs(tc__cross(a, b)) / (hypot(a[0], a[1]) * hypot(b[0], b[1]));
+}
+
+/* How far a wedge is pulled towards a bounded rule: 0 for a well-shaped wedge,
+ * rising linearly to 1 as it becomes straight. 0 for wedges the exact rules
+ * already handle (flagged collinear, sides on one ray, no two distinct sides). */
+static double straightness(const tc_wedge *w) {
+    if (w->side_edge[0] < 0 || w->collinear || w->side_edge[0] == w->side_edge[1]) return 0;
+    double k = 1 - side_sin(w) / NEAR_STRAIGHT;
+    return k > 0 ? k : 0;
+}
+
+/* A wedge whose two sides are both C0: its side slopes are shared with its
+ * neighbours, so a nearly straight one cannot fix its plane alone. */
+static double straightness_c0c0(const tc_wedge *w) {
+    return w->across[0] >= 0 && w->across[1] >= 0 ? straightness(w) : 0;
+}
+
+/* The plane each side of the wedge takes its edge slope from: the coupling
+ * plane, pulled towards the vertex's mean plane by the straighter of the two
+ * wedges at the edge when that one has two C0 sides. Both wedges compute the
+ * same weight and the same planes, so they agree on the edge (C0), and a
+ * nearly straight wedge gets side slopes that nearly fit one plane. */
 static void side_plane(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
-    if (x->ws->w[wi].across[s] >= 0) {
+    int32_t o = x->ws->w[wi].across[s];
+    if (o >= 0) {
         coupling(x, wi, s, ch, g);
+        double k = x->corrected ? fmax(straightness_c0c0(&x->ws->w[wi]), straightness_c0c0(&x->ws->w[o])) : 0;
+        if (k > 0) {
+            const double *v = x->vplane + 2 * ((size_t)wi * x->nc + ch);
+            g[0] += k * (v[0] - g[0]);
+            g[1] += k * (v[1] - g[1]);
+        }
     } else {
         g[0] = avg_of(x, wi, ch)[0];
         g[1] = avg_of(x, wi, ch)[1];
@@ -131,6 +171,18 @@ static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
     side_plane(x, wi, TC_SIDE_A, ch, ga);
     side_plane(x, wi, TC_SIDE_B, ch, gb);
     tc__solve2(w->dir[0], w->dir[1], tc__dot(ga, w->dir[0]), tc__dot(gb, w->dir[1]), out);
+    /* One C0 side and one free (C-1 or boundary) side, nearly straight: blend
+     * with the plane that matches the C0 slope and keeps its own cross slope.
+     * Both planes meet the C0 constraint exactly, so their blend does too, and
+     * the solve's 1/sin growth is cancelled by the weight 1 - k ~ sin. */
+    double k = straightness(w);
+    int c0 = w->across[TC_SIDE_A] >= 0 ? TC_SIDE_A : w->across[TC_SIDE_B] >= 0 ? TC_SIDE_B : -1;
+    if (k > 0 && c0 >= 0 && w->across[1 - c0] < 0) {
+        double m[2];
+        tc__match_along(own, c0 == TC_SIDE_A ? ga : gb, w->dir[c0], m);
+        out[0] += k * (m[0] - out[0]);
+        out[1] += k * (m[1] - out[1]);
+    }
 }
 
 /* Literal step 4 for a 180-degree wedge: Project(N, <w_next - w_prev,
@@ -161,6 +213,23 @@ static int literal(const ctx *x, int32_t wi, int ch, double out[2]) {
     return 0;
 }
 
+/* For every wedge, the area-weighted mean of the average planes of all the
+ * wedges at its vertex (wedges of one vertex are contiguous in ws->w). */
+static void vertex_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *avg, double *vplane) {
+    size_t stride = 2 * (size_t)m->nc;
+    for (int32_t w0 = 0, w1; w0 < ws->nw; w0 = w1) {
+        double sum[2 * TC_MAX_CHANNELS] = {0}, wsum = 0;
+        for (w1 = w0; w1 < ws->nw && ws->w[w1].v == ws->w[w0].v; w1++) {
+            double a = 0;
+            for (int32_t i = 0; i < ws->w[w1].count; i++) a += face_area(m, ws->corners[ws->w[w1].first + i] / 3);
+            for (size_t k = 0; k < stride; k++) sum[k] += a * avg[(size_t)w1 * stride + k];
+            wsum += a;
+        }
+        for (int32_t w = w0; w < w1; w++)
+            for (size_t k = 0; k < stride; k++) vplane[(size_t)w * stride + k] = sum[k] / wsum;
+    }
+}
+
 int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *in, tc_wedges mode,
                      tc_average average, double *out, tc_diags *dg) {
     /* Figure 6 as printed averages unit normals, whatever was asked. */
@@ -177,7 +246,13 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
         return ws->ncoupled == 0 ? TC_OK : TC_ENOMEM;
     }
     memcpy(avg, out, (size_t)ws->nw * stride * sizeof *avg);
-    ctx x = {ws, avg, area, nc, by_area};
+    double *vplane = malloc((size_t)ws->nw * stride * sizeof *vplane);
+    if (!vplane) {
+        free(avg), free(area);
+        return TC_ENOMEM;
+    }
+    vertex_planes(m, ws, avg, vplane);
+    ctx x = {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED};
     int st = TC_OK;
     for (int32_t w = 0; w < ws->nw; w++) {
         const tc_wedge *wd = &ws->w[w];
@@ -197,6 +272,7 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
         }
     }
     free(avg);
+    free(vplane);
     free(area);
     return st;
 }
