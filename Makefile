@@ -32,7 +32,7 @@ CORE_SRC := $(wildcard src/core/*.c)
 IO_SRC   := $(wildcard src/io/*.c) $(wildcard src/image/*.c) $(wildcard src/scenes/*.c)
 CLI_SRC  := $(wildcard src/cli/*.c)
 SRV_SRC  := $(wildcard src/server/*.c)
-TEST_SRC := tests/main.c $(wildcard tests/unit/*.c)
+TEST_SRC := tests/main.c $(wildcard tests/unit/*.c) $(wildcard tests/stability/*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 LIB_OBJ  := $(call obj,$(CORE_SRC) $(IO_SRC))
@@ -51,6 +51,7 @@ $(BUILD)/obj/%.o: %.c
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests
+$(BUILD)/obj/tests/stability/%.o: ALL_CFLAGS += -Itests/unit
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 
 $(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h

@@ -32,6 +32,10 @@ for t in tests/endpoint/*.py; do
   [ -e "$t" ] || continue
   run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B"
 done
+for t in tests/stability/test_*.py; do
+  [ -e "$t" ] || continue
+  run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B"
+done
 for t in tests/peers/*.py; do
   [ -e "$t" ] || continue
   run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B/tocher"

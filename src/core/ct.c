@@ -70,9 +70,26 @@ static double cab_linear(const double *o, int a, int b, double tau) {
     return aaa + (0.5 * (caa + cbb) - (1 - tau) * (0.5 * abb - aab) - tau * (0.5 * (aab + bbb) - abb));
 }
 
+/* The paper's Project (wedges "literal") tilts the averaged plane about the
+ * edge until it contains the control polygon's middle leg; as 1 + a*s -> 0 the
+ * tilt goes vertical and the plane's slope grows without bound. Above
+ * PROJECT_WARN times the larger of the averaged slope and the leg's slope the
+ * result is reported; above PROJECT_LIMIT it is refused (a gradient 1e3 times
+ * the data's is no reconstruction of it). `corrected` has no such singularity. */
+#define PROJECT_WARN 10.0
+#define PROJECT_LIMIT 1e3
+
+typedef struct {
+    int32_t count, t; /* Projects amplified past PROJECT_WARN; the worst one's triangle and edge */
+    int edge;
+    double amp;
+} project_stats;
+
 /* The paper's rule: plane through the middle of aab-abb with the averaged
- * normal, projected to contain the control polygon's middle leg. */
-static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geom *g, const double *o, double *cab) {
+ * normal, projected to contain the control polygon's middle leg. *amp is the
+ * projected slope over the larger input slope (literal only; else 1). */
+static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geom *g, const double *o, double *cab,
+                       double *amp) {
     const struct tc_mesh *m = x->m;
     int a = k, b = (k + 1) % 3, w = (k + 2) % 3, nc = m->nc;
     size_t ca = 3 * (size_t)t + a, cb = 3 * (size_t)t + b;
@@ -88,6 +105,7 @@ static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geo
     }
     tc__sub(e, g->r[b], g->r[a]);
     double rise = 3 * (o[IIJ[b][a]] - o[IIJ[a][b]]); /* required g.e */
+    *amp = 1;
     if (x->wedges == TC_WEDGES_CORRECTED) {
         double s = (rise - tc__dot(gn, e)) / tc__dot(e, e);
         gp[0] = gn[0] + s * e[0];
@@ -96,15 +114,39 @@ static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geo
         double D[3] = {e[0], e[1], rise}, N[3] = {-gn[0], -gn[1], 1};
         double q = (N[0] * D[0] + N[1] * D[1] + N[2] * D[2]) / (D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
         double P[3] = {N[0] - q * D[0], N[1] - q * D[1], N[2] - q * D[2]};
-        if (!(P[2] > 1e-12 * hypot(P[0], hypot(P[1], P[2])))) return -1;
+        if (!(P[2] > 0)) {
+            *amp = INFINITY;
+            return -1;
+        }
         tc__normal_to_grad(P, gp);
+        double in = fmax(hypot(gn[0], gn[1]), fabs(rise) / hypot(e[0], e[1]));
+        *amp = hypot(gp[0], gp[1]) / in;
+        if (!(in > 0)) *amp = hypot(gp[0], gp[1]) > 0 ? INFINITY : 1;
+        if (!(*amp <= PROJECT_LIMIT)) return -1;
     }
     double d[2] = {(2 * (g->r[w][0] - g->r[a][0]) - e[0]) / 18, (2 * (g->r[w][1] - g->r[a][1]) - e[1]) / 18};
     *cab = 0.5 * (o[IIJ[a][b]] + o[IIJ[b][a]]) + tc__dot(gp, d);
     return isfinite(*cab) ? 0 : -1;
 }
 
-static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef, tc_diags *dg) {
+static void note_project(project_stats *ps, double amp, int32_t t, int k) {
+    if (!(amp > PROJECT_WARN)) return;
+    if (ps->count++ == 0 || amp > ps->amp) ps->amp = amp, ps->t = t, ps->edge = k;
+}
+
+/* One warning for all the amplified Projects, naming the worst. */
+static void warn_projects(const tc_ct_input *x, const project_stats *ps, tc_diags *dg) {
+    if (!ps->count) return;
+    char path[48];
+    tc__elem_path(x->m, ps->t, path, sizeof path);
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "%d cross-boundary planes (salesin, literal Project) amplify the gradient more than %.0fx; the "
+                 "worst, edge %d here, %.3gx (1 + a*s near 0); wedges \"corrected\" does not",
+                 (int)ps->count, PROJECT_WARN, ps->edge, ps->amp);
+}
+
+static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef, project_stats *ps,
+                    tc_diags *dg) {
     const struct tc_mesh *m = x->m;
     int nc = m->nc;
     for (int ch = 0; ch < nc; ch++) {
@@ -121,13 +163,18 @@ static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef
         for (int k = 0; k < 3; k++) {
             if (x->cross != TC_CROSS_SALESIN) {
                 o[CIJ[k]] = cab_linear(o, k, (k + 1) % 3, g->tau[k]);
-            } else if (cab_salesin(x, t, k, ch, g, o, &o[CIJ[k]]) < 0) {
+            } else {
+                double amp;
+                int st = cab_salesin(x, t, k, ch, g, o, &o[CIJ[k]], &amp);
+                note_project(ps, amp, t, k);
+                if (st == 0) continue;
                 char path[48];
                 tc__elem_path(m, t, path, sizeof path);
-                if (x->wedges == TC_WEDGES_LITERAL)
+                if (x->wedges == TC_WEDGES_LITERAL && amp > PROJECT_LIMIT)
                     return tc_diags_add(dg, TC_SEV_ERROR, path,
                                         "cross_boundary \"salesin\" with wedges \"literal\": Project is singular on "
-                                        "edge %d; use wedges \"corrected\"", k);
+                                        "edge %d (it would amplify the gradient %.3gx, limit %.0fx); use wedges "
+                                        "\"corrected\"", k, amp, PROJECT_LIMIT);
                 return tc_diags_add(dg, TC_SEV_ERROR, path, "the cross-boundary ordinate of edge %d overflows", k);
             }
         }
@@ -138,14 +185,16 @@ static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef
 }
 
 int tc__ct_ordinates(const tc_ct_input *x, double *coef, tc_diags *dg) {
+    project_stats ps = {0, -1, 0, 0};
     for (int32_t t = 0; t < x->m->nt; t++) {
         geom g;
         local_geometry(x->m, t, &g);
         for (int k = 0; k < 3; k++)
             g.tau[k] = x->cross == TC_CROSS_AFFINE ? tau_affine(x, t, k, &g)
                                                    : tau_normal(&g, k, (k + 1) % 3, (k + 2) % 3);
-        if (triangle(x, t, &g, coef, dg) != TC_OK) return TC_EINVAL;
+        if (triangle(x, t, &g, coef, &ps, dg) != TC_OK) return TC_EINVAL;
     }
+    warn_projects(x, &ps, dg);
     return TC_OK;
 }
 

@@ -34,25 +34,43 @@ static inline int tc__nonzero_area(const double p0[2], const double p1[2], const
 
 /* Directions a and b (from a common vertex) point in opposite directions on
  * one line: the two sides of a 180 degree wedge. */
-static inline int tc__antiparallel(const double a[2], const double b[2]) {
-    return fabs(tc__cross(a, b)) <= TC_COLLINEAR_TOL * hypot(a[0], a[1]) * hypot(b[0], b[1]) &&
-           tc__dot(a, b) < 0;
+static inline int tc__antiparallel_within(const double a[2], const double b[2], double tol) {
+    return fabs(tc__cross(a, b)) <= tol * hypot(a[0], a[1]) * hypot(b[0], b[1]) && tc__dot(a, b) < 0;
 }
+static inline int tc__antiparallel(const double a[2], const double b[2]) {
+    return tc__antiparallel_within(a, b, TC_COLLINEAR_TOL);
+}
+
+/* A C0 line through a vertex this close to straight (|sin| of the bend) keeps a
+ * fading kink there (wedgeplane.c): the vertex is classed C0, not C1, so the
+ * reconstruction changes continuously as a line is bent through straight. */
+#define TC_STRAIGHT_BAND 1e-9
 
 /* Barycentric coordinates of (x, y) in triangle t (in the given vertex order)
  * and the constant gradients of lam[1] and lam[2]; grad lam[0] = -(dl1 + dl2).
- * Exact at the corners: lam is (1,0,0), (0,1,0), (0,0,1) there. */
+ * Each lam[i] is the signed area over the point and the edge opposite corner i,
+ * measured from that edge's end nearer the point and divided by the area seen
+ * from the same end: small for points near the edge whatever the far corner's distance
+ * (needles), and exactly 1 and 0 at the corners. The three need not sum to 1
+ * in the last bit; the evaluators work in difference form and do not care. */
 static inline void tc__bary(const struct tc_mesh *m, int32_t t, double x, double y,
                             double lam[3], double dl1[2], double dl2[2]) {
     const int32_t *v = m->tri + 3 * (size_t)t;
-    const double *p0 = tc__vxy(m, v[0]), *p1 = tc__vxy(m, v[1]), *p2 = tc__vxy(m, v[2]);
-    double e1[2], e2[2], d[2] = {x - p0[0], y - p0[1]};
-    tc__sub(e1, p1, p0);
-    tc__sub(e2, p2, p0);
+    const double *p[3] = {tc__vxy(m, v[0]), tc__vxy(m, v[1]), tc__vxy(m, v[2])};
+    for (int i = 0; i < 3; i++) {
+        const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
+        double da = (x - a[0]) * (x - a[0]) + (y - a[1]) * (y - a[1]);
+        double db = (x - b[0]) * (x - b[0]) + (y - b[1]) * (y - b[1]);
+        const double *o = db < da ? b : a; /* the end nearer the point: short d, little cancellation */
+        double e[2], d[2] = {x - o[0], y - o[1]}, c[2];
+        tc__sub(e, b, a);
+        tc__sub(c, p[i], o);
+        lam[i] = tc__cross(e, d) / tc__cross(e, c);
+    }
+    double e1[2], e2[2];
+    tc__sub(e1, p[1], p[0]);
+    tc__sub(e2, p[2], p[0]);
     double det = tc__cross(e1, e2);
-    lam[1] = tc__cross(d, e2) / det;
-    lam[2] = tc__cross(e1, d) / det;
-    lam[0] = 1.0 - lam[1] - lam[2];
     dl1[0] = e2[1] / det;
     dl1[1] = -e2[0] / det;
     dl2[0] = -e1[1] / det;

@@ -149,14 +149,18 @@ void tc__hermite_eval(const double *o, const tc_at *at, double *value, double *g
     tc__bilinear_inverse(P, at->d, st);
     bernstein(st[0], bs, dbs);
     bernstein(st[1], bt, dbt);
+    /* Offsets from the nearest corner's value (the weights sum to 1, the
+     * derivative weights to 0): constant data exact even subnormal, and that
+     * corner's value exactly at the corner. */
+    double base = o[4 * (st[0] > 0.5 ? 3 : 0) + (st[1] > 0.5 ? 3 : 0)];
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++) {
-            double b = o[4 * i + j];
+            double b = o[4 * i + j] - base;
             v += bs[i] * bt[j] * b;
             fs += dbs[i] * bt[j] * b;
             ft += bs[i] * dbt[j] * b;
         }
-    *value = v;
+    *value = base + v;
     if (!grad) return;
     /* grad f = J^-T (f_s, f_t). The Jacobian is non-singular on the square of a
      * convex quad; beyond it (extension) it may not be, so a singular one is

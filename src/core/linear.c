@@ -13,7 +13,7 @@ void tc__constant_build(const struct tc_mesh *m, double *coef) {
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++) {
             const double *z = m->cz + 3 * (size_t)t * nc + ch;
-            coef[(size_t)t * nc + ch] = (z[0] + z[nc] + z[2 * nc]) / 3;
+            coef[(size_t)t * nc + ch] = z[0] + ((z[nc] - z[0]) + (z[2 * nc] - z[0])) / 3; /* exact when equal; no overflow */
         }
 }
 

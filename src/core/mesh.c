@@ -112,7 +112,9 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
 }
 
 /* Above this aspect ratio (longest edge over shortest altitude) a triangle is
- * reported: it stays valid and continuous, but its pieces can overshoot. */
+ * reported: it stays valid and continuous, but its pieces can overshoot, and a
+ * gradient read across it carries rounding of about eps * aspect relative
+ * (docs/stability.md: the ordinates vary by |g| L along it, by |g| h across). */
 #define ASPECT_WARN 1e4
 
 static double aspect_ratio(const struct tc_mesh *m, int32_t t) {
@@ -141,7 +143,8 @@ static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
     tc__elem_path(m, worst, path, sizeof path);
     tc_diags_add(dg, TC_SEV_WARNING, path,
                  "%d triangles have an aspect ratio above %.0e (longest edge / shortest altitude); the worst, %s, "
-                 "%.3g: the reconstruction stays continuous but may overshoot there",
+                 "%.3g: the reconstruction stays continuous but may overshoot there, and gradients across it lose "
+                 "about log10(aspect) digits to rounding",
                  (int)n, ASPECT_WARN, path, worst_ar);
 }
 

@@ -176,11 +176,12 @@ static void ordinates(const ps_geom *g, const double z[3], const double *const g
         back[0] = -(1 - a) * e[0], back[1] = -(1 - a) * e[1];       /* R_k - V_j */
         o[PS_NEAR_OF(k, 0)] = half_step(z[k], gr[k], to_r);
         o[PS_NEAR_OF(k, 1)] = half_step(z[j], gr[j], back);
-        o[PS_R + k] = (1 - a) * o[PS_NEAR_OF(k, 0)] + a * o[PS_NEAR_OF(k, 1)];
-        o[PS_RZ + k] = (1 - a) * o[PS_VZ + k] + a * o[PS_VZ + j];
+        /* Affine combinations in difference form: exact when the ends agree. */
+        o[PS_R + k] = o[PS_NEAR_OF(k, 0)] + a * (o[PS_NEAR_OF(k, 1)] - o[PS_NEAR_OF(k, 0)]);
+        o[PS_RZ + k] = o[PS_VZ + k] + a * (o[PS_VZ + j] - o[PS_VZ + k]);
         o[PS_ALPHA + k] = a;
     }
-    o[PS_Z] = g->zeta[0] * o[PS_VZ] + g->zeta[1] * o[PS_VZ + 1] + g->zeta[2] * o[PS_VZ + 2];
+    o[PS_Z] = o[PS_VZ] + (g->zeta[1] * (o[PS_VZ + 1] - o[PS_VZ]) + g->zeta[2] * (o[PS_VZ + 2] - o[PS_VZ]));
 }
 
 static void triangle(const struct tc_recon *r, int32_t t, const ps_geom *g) {
@@ -211,14 +212,17 @@ static void sector_coords(const double *o, int k, const double lam[3], double ab
 }
 
 /* Quadratic on (V, R, Z) with ordinates b[6] = V, R, Z, V:R, V:Z, R:Z at
- * barycentrics s: the value, and its derivatives d[3] by s (2 q_i). At s =
- * (1, 0, 0) the value is b[0] exactly: no factor multiplies it. */
+ * barycentrics s: the value, and its derivatives d[3] by s (2 q_i), of the
+ * quadratic less b[0]. Worked as offsets from b[0] (the s sum to 1, so a
+ * constant moves every d alike and the gradient not at all): constant data
+ * comes out exact even subnormal, and at s = (1, 0, 0) the value is b[0]. */
 static double quadratic(const double b[6], const double s[3], double d[3]) {
-    double q0 = s[0] * b[0] + s[1] * b[3] + s[2] * b[4];
-    double q1 = s[0] * b[3] + s[1] * b[1] + s[2] * b[5];
-    double q2 = s[0] * b[4] + s[1] * b[5] + s[2] * b[2];
+    double r = b[1] - b[0], z = b[2] - b[0], vr = b[3] - b[0], vz = b[4] - b[0], rz = b[5] - b[0];
+    double q0 = s[1] * vr + s[2] * vz;
+    double q1 = s[0] * vr + s[1] * r + s[2] * rz;
+    double q2 = s[0] * vz + s[1] * rz + s[2] * z;
     d[0] = 2 * q0, d[1] = 2 * q1, d[2] = 2 * q2;
-    return s[0] * q0 + s[1] * q1 + s[2] * q2;
+    return b[0] + (s[0] * q0 + s[1] * q1 + s[2] * q2);
 }
 
 void tc__ps_eval_piece(const double *o, int piece, const double lam[3], const double dl1[2], const double dl2[2],

@@ -27,7 +27,8 @@ static void edge_dir(const struct tc_mesh *m, int32_t e, int32_t v, double d[2])
 }
 
 /* Paper §2: C-1 if any incident edge is C-1 (the boundary included); else C0
- * with three or more C0 edges, or exactly two that are collinear; else C1. */
+ * with three or more C0 edges, or exactly two that are collinear (to within
+ * TC_STRAIGHT_BAND: see there); else C1. */
 static int8_t classify(const struct tc_mesh *m, int honor, int32_t v) {
     int ncm1 = 0, nc0 = 0;
     double d[2][2] = {{0}};
@@ -43,7 +44,7 @@ static int8_t classify(const struct tc_mesh *m, int honor, int32_t v) {
         }
     }
     if (ncm1) return TC_CM1;
-    if (nc0 >= 3 || (nc0 == 2 && tc__antiparallel(d[0], d[1]))) return TC_C0;
+    if (nc0 >= 3 || (nc0 == 2 && tc__antiparallel_within(d[0], d[1], TC_STRAIGHT_BAND))) return TC_C0;
     return TC_C1;
 }
 

@@ -16,6 +16,14 @@
  * proportion to 1 - sin/NEAR_STRAIGHT, towards a rule that stays bounded. */
 #define NEAR_STRAIGHT 0.25
 
+/* A straight C0 line may keep a kink at a vertex; a line bent by any angle may
+ * not (with both side slopes exact, two edges fix the plane: the paper's
+ * theorem). Between sin = TC_COLLINEAR_TOL (straight) and TC_STRAIGHT_BAND the
+ * kink is let go gradually (log-spaced in the angle), at the price of a C0
+ * mismatch of at most sin * (the kink) on the far side: <= 1e-9 relative. At
+ * the band's end both wedges reach the same plane — with average "area", the
+ * one the vertex gets as a C1 vertex just outside the band. */
+
 typedef struct {
     const tc_wedge_set *ws;
     const double *avg;  /* [nw][nc][2] step 1: each wedge's average plane */
@@ -171,6 +179,18 @@ static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
     side_plane(x, wi, TC_SIDE_A, ch, ga);
     side_plane(x, wi, TC_SIDE_B, ch, gb);
     tc__solve2(w->dir[0], w->dir[1], tc__dot(ga, w->dir[0]), tc__dot(gb, w->dir[1]), out);
+    double sn = side_sin(w);
+    if (w->across[0] >= 0 && w->across[1] >= 0 && sn < TC_STRAIGHT_BAND) {
+        /* Nearly straight C0 line: fade from the straight line's rule (the
+         * coupled slope along it, the wedge's own cross slope) to the plane above. */
+        double t = sn > TC_COLLINEAR_TOL ? log(sn / TC_COLLINEAR_TOL) / log(TC_STRAIGHT_BAND / TC_COLLINEAR_TOL) : 0;
+        double gc[2], kink[2];
+        coupling(x, wi, TC_SIDE_A, ch, gc);
+        tc__match_along(own, gc, w->dir[TC_SIDE_A], kink);
+        out[0] = t * out[0] + (1 - t) * kink[0];
+        out[1] = t * out[1] + (1 - t) * kink[1];
+        return;
+    }
     /* One C0 side and one free (C-1 or boundary) side, nearly straight: blend
      * with the plane that matches the C0 slope and keeps its own cross slope.
      * Both planes meet the C0 constraint exactly, so their blend does too, and
@@ -187,24 +207,32 @@ static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
 
 /* Literal step 4 for a 180-degree wedge: Project(N, <w_next - w_prev,
  * 3(s_next - s_prev)>) with N the plane of the last side visited (next), in 3D
- * normal form. Returns -1 where the projection is vertical (1 + a s = 0). */
-static int literal_collinear(const tc_wedge *w, const double gp[2], const double gn[2], double out[2]) {
+ * normal form. As the projection goes vertical (1 + a s -> 0) its slope grows
+ * without bound: *amp is that slope over the larger side slope, and the result
+ * is refused (-1) above PROJECT_LIMIT, reported above PROJECT_WARN (as in ct.c). */
+#define PROJECT_WARN 10.0
+#define PROJECT_LIMIT 1e3
+static int literal_collinear(const tc_wedge *w, const double gp[2], const double gn[2], double out[2], double *amp) {
     double D[3] = {w->dir[1][0] - w->dir[0][0], w->dir[1][1] - w->dir[0][1],
                    tc__dot(gn, w->dir[1]) - tc__dot(gp, w->dir[0])};
     double N[3] = {-gn[0], -gn[1], 1};
     double k = (N[0] * D[0] + N[1] * D[1] + N[2] * D[2]) / (D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
     double P[3] = {N[0] - k * D[0], N[1] - k * D[1], N[2] - k * D[2]};
-    if (!(P[2] > 1e-12 * hypot(P[0], hypot(P[1], P[2])))) return -1;
+    *amp = INFINITY;
+    if (!(P[2] > 0)) return -1;
     tc__normal_to_grad(P, out);
-    return isfinite(out[0]) && isfinite(out[1]) ? 0 : -1;
+    double in = fmax(hypot(gp[0], gp[1]), hypot(gn[0], gn[1])), g = hypot(out[0], out[1]);
+    *amp = in > 0 ? g / in : g > 0 ? INFINITY : 1;
+    return *amp <= PROJECT_LIMIT ? 0 : -1;
 }
 
-static int literal(const ctx *x, int32_t wi, int ch, double out[2]) {
+static int literal(const ctx *x, int32_t wi, int ch, double out[2], double *amp) {
     const tc_wedge *w = &x->ws->w[wi];
     double gp[2], gn[2];
     side_plane(x, wi, TC_SIDE_A, ch, gp);
     side_plane(x, wi, TC_SIDE_B, ch, gn);
-    if (w->collinear) return literal_collinear(w, gp, gn, out);
+    *amp = 1;
+    if (w->collinear) return literal_collinear(w, gp, gn, out, amp);
     if (sides_parallel(w)) { /* the paper's cross product vanishes here */
         corrected(x, wi, ch, out);
         return 0;
@@ -253,23 +281,37 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
     }
     vertex_planes(m, ws, avg, vplane);
     ctx x = {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED};
-    int st = TC_OK;
-    for (int32_t w = 0; w < ws->nw; w++) {
+    int st = TC_OK, namp = 0;
+    double worst = 0;
+    int32_t worst_v = -1;
+    for (int32_t w = 0; w < ws->nw && st == TC_OK; w++) {
         const tc_wedge *wd = &ws->w[w];
         if (wd->across[0] < 0 && wd->across[1] < 0) continue;
         for (int ch = 0; ch < nc; ch++) {
-            double *g = out + (size_t)w * stride + 2 * ch;
+            double *g = out + (size_t)w * stride + 2 * ch, amp = 1;
             if (mode == TC_WEDGES_CORRECTED) {
                 corrected(&x, w, ch, g);
-            } else if (literal(&x, w, ch, g) < 0) {
+                continue;
+            }
+            int bad = literal(&x, w, ch, g, &amp) < 0;
+            if (amp > PROJECT_WARN && namp++ >= 0 && amp > worst) worst = amp, worst_v = wd->v;
+            if (bad) {
                 char path[48];
                 snprintf(path, sizeof path, "vertices[%d]", (int)wd->v);
                 st = tc_diags_add(dg, TC_SEV_ERROR, path,
-                                  "wedges \"literal\": Figure 6's Project is singular at vertex %d (1 + a*s = 0); "
-                                  "use wedges \"corrected\"", (int)wd->v);
+                                  "wedges \"literal\": Figure 6's Project is singular at vertex %d (1 + a*s near 0; "
+                                  "it would amplify the gradient %.3gx, limit %.0fx); use wedges \"corrected\"",
+                                  (int)wd->v, amp, PROJECT_LIMIT);
                 break;
             }
         }
+    }
+    if (st == TC_OK && namp) {
+        char path[48];
+        snprintf(path, sizeof path, "vertices[%d]", (int)worst_v);
+        tc_diags_add(dg, TC_SEV_WARNING, path,
+                     "%d wedge planes (literal Project) amplify the gradient more than %.0fx; the worst, at vertex %d, "
+                     "%.3gx (1 + a*s near 0); wedges \"corrected\" does not", namp, PROJECT_WARN, (int)worst_v, worst);
     }
     free(avg);
     free(vplane);

@@ -118,6 +118,28 @@ static void server_timing(const request *q, const tc_api_result *res, char *out,
     if (k < n) snprintf(out + k, n - k, "total;dur=%.3f", tc_api_now_ms() - q->t0);
 }
 
+/* An image carries no JSON "warnings", so a 200 that is not JSON repeats them
+ * as headers: "Tocher-Warnings: N" (all of them) and up to TC_WARNING_HEADERS
+ * "Tocher-Warning: <path>: <message>" lines, in the order the core found them.
+ * The messages are the core's own printable ASCII; anything else becomes '?'. */
+enum { TC_WARNING_HEADERS = 8 };
+
+static void warning_headers(const tc_reply *r, struct MHD_Response *resp) {
+    const tc_diags *d = &r->res.diags;
+    if (r->status != 200 || !d->warnings || !strcmp(r->content_type, TC_JSON_TYPE)) return;
+    char line[sizeof d->items->path + sizeof d->items->message + 4];
+    snprintf(line, sizeof line, "%d", d->warnings);
+    MHD_add_response_header(resp, "Tocher-Warnings", line);
+    for (int i = 0, n = 0; i < d->count && n < TC_WARNING_HEADERS; i++) {
+        if (d->items[i].severity != TC_SEV_WARNING) continue;
+        snprintf(line, sizeof line, "%s%s%s", d->items[i].path, *d->items[i].path ? ": " : "", d->items[i].message);
+        for (char *c = line; *c; c++)
+            if (*c < 0x20 || *c > 0x7e) *c = '?';
+        MHD_add_response_header(resp, "Tocher-Warning", line);
+        n++;
+    }
+}
+
 static void add_headers(const tc_http_state *st, const request *q, const tc_reply *r, struct MHD_Response *resp,
                         const char *ctype) {
     char timing[256], retry[16];
@@ -125,6 +147,7 @@ static void add_headers(const tc_http_state *st, const request *q, const tc_repl
     MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, ctype);
     MHD_add_response_header(resp, "Server-Timing", timing);
     if (r->allow) MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, r->allow);
+    warning_headers(r, resp);
     if (r->retry_after > 0) {
         snprintf(retry, sizeof retry, "%d", r->retry_after);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, retry);
