@@ -9,7 +9,7 @@ CFLAGS  ?=
 LDFLAGS ?=
 
 DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev libmicrohttpd-dev libopenimageio-dev \
-                   openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml curl
+                   openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml curl wrk
 
 CJSON_CFLAGS := $(shell pkg-config --cflags libcjson 2>/dev/null)
 CJSON_LIBS   := $(shell pkg-config --libs libcjson 2>/dev/null || echo -lcjson)
@@ -41,7 +41,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit test-peers check run clean report
+.PHONY: all deps test test-unit test-peers check run clean report bench
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -53,6 +53,7 @@ $(BUILD)/obj/%.o: %.c
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests
 $(BUILD)/obj/tests/stability/%.o: ALL_CFLAGS += -Itests/unit
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
+$(BUILD)/obj/src/core/ct_span.o: ALL_CFLAGS += -Wno-psabi
 
 $(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h
 	@mkdir -p $(dir $@)
@@ -74,6 +75,14 @@ $(BUILD)/test_unit: $(TEST_OBJ) $(BUILD)/libtocher.a
 # The error-against-run-time report: docs/report.md and docs/report/ (bench/).
 $(BUILD)/report: $(BENCH_OBJ) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
+# The performance comparison with scipy and matplotlib: docs/performance.md (bench/perf/).
+$(BUILD)/bench_perf: $(call obj,bench/perf/perf.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
+bench: deps
+	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf
+	bench/perf/run.sh $(BUILD)
 
 report: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/report

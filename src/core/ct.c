@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/fhypot.h"
 #include "core/ct.h"
 #include "core/geom.h"
 #include "core/internal.h"
@@ -119,9 +120,9 @@ static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geo
             return -1;
         }
         tc__normal_to_grad(P, gp);
-        double in = fmax(hypot(gn[0], gn[1]), fabs(rise) / hypot(e[0], e[1]));
-        *amp = hypot(gp[0], gp[1]) / in;
-        if (!(in > 0)) *amp = hypot(gp[0], gp[1]) > 0 ? INFINITY : 1;
+        double in = fmax(tc__hypot(gn[0], gn[1]), fabs(rise) / tc__hypot(e[0], e[1]));
+        *amp = tc__hypot(gp[0], gp[1]) / in;
+        if (!(in > 0)) *amp = tc__hypot(gp[0], gp[1]) > 0 ? INFINITY : 1;
         if (!(*amp <= PROJECT_LIMIT)) return -1;
     }
     double d[2] = {(2 * (g->r[w][0] - g->r[a][0]) - e[0]) / 18, (2 * (g->r[w][1] - g->r[a][1]) - e[1]) / 18};
@@ -202,7 +203,7 @@ int tc__ct_ordinates(const tc_ct_input *x, double *coef, tc_diags *dg) {
 
 /* The ten ordinates of the subtriangle opposite corner m, as b300 b030 b003
  * b210 b120 b201 b021 b102 b012 b111 with a = m+1, b = m+2 and c the centroid. */
-static const int SUB[3][10] = {
+const int tc__ct_sub[3][10] = {
     {CT_VVV, CT_WWW, CT_CCC, CT_VVW, CT_VWW, CT_CVV, CT_CWW, CT_CCV, CT_CCW, CT_CVW},
     {CT_WWW, CT_UUU, CT_CCC, CT_UWW, CT_UUW, CT_CWW, CT_CUU, CT_CCW, CT_CCU, CT_CUW},
     {CT_UUU, CT_VVV, CT_CCC, CT_UUV, CT_UVV, CT_CUU, CT_CVV, CT_CCU, CT_CCV, CT_CUV},
@@ -210,7 +211,7 @@ static const int SUB[3][10] = {
 
 void tc__ct_eval_sub(const double o[TC_CT_ORDINATES], int sub, const double lam[3], const double dl1[2],
                      const double dl2[2], double *value, double *grad) {
-    const int *s = SUB[sub];
+    const int *s = tc__ct_sub[sub];
     int a = (sub + 1) % 3, b = (sub + 2) % 3;
     double A = lam[a] - lam[sub], B = lam[b] - lam[sub], C = 3 * lam[sub];
     /* Difference form about the ordinate of the corner with the largest weight:

@@ -32,6 +32,20 @@ int tc__ct_ordinates(const tc_ct_input *in, double *coef, tc_diags *dg);
 /* Value and gradient of the piece with ordinates o at `at`. grad may be NULL. */
 void tc__ct_eval(const double *o, const tc_at *at, double *value, double *grad);
 
+/* The ten ordinates of the subtriangle opposite corner m, as b300 b030 b003
+ * b210 b120 b201 b021 b102 b012 b111 with a = m+1, b = m+2 and c the centroid. */
+extern const int tc__ct_sub[3][10];
+
+/* Values (no gradients) of n pixel centres (xs[i], y) of one row, all owned by
+ * the triangle with frame f and ordinates coef[nc][19]: out[i * nc + ch] is
+ * (float) of exactly the double tc__frame_at + tc__ct_eval give there — the
+ * same operations lane for lane, four pixels at a time (ct_span.c). dout, if
+ * not NULL, gets the doubles themselves (tests: a float hides most last-bit slips). */
+void tc__ct_span(const tc_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
+                 float *out, double *dout);
+/* Tests: 1 forces the portable (SSE2) build of tc__ct_span, 0 lets the CPU choose. */
+void tc__ct_span_force_generic(int on);
+
 /* Same, on the subtriangle opposite corner `sub` (0..2) whatever lam says:
  * the subtriangle pieces extended, for testing continuity across their edges. */
 void tc__ct_eval_sub(const double o[TC_CT_ORDINATES], int sub, const double lam[3], const double dl1[2],

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/fhypot.h"
 #include "core/hermite.h"
 #include "core/internal.h"
 #include "core/lsq.h"
@@ -24,7 +25,7 @@ static double map_residual(const double B[2], const double D[2], const double E[
                            double t, double r[2]) {
     r[0] = s * B[0] + t * D[0] + s * t * E[0] - x[0];
     r[1] = s * B[1] + t * D[1] + s * t * E[1] - x[1];
-    return hypot(r[0], r[1]);
+    return tc__hypot(r[0], r[1]);
 }
 
 /* Newton's method on the map, keeping only steps that shrink the residual,
@@ -106,7 +107,7 @@ void tc__bilinear_inverse(const double P[4][2], const double d[2], double st[2])
     for (int k = 1; k < 4; k++) L = fmax(L, fmax(fabs(P[k][0]), fabs(P[k][1])));
     double B[2] = {P[1][0] / L, P[1][1] / L}, D[2] = {P[3][0] / L, P[3][1] / L};
     double E[2] = {(P[2][0] - P[1][0] - P[3][0]) / L, (P[2][1] - P[1][1] - P[3][1]) / L};
-    double x[2] = {d[0] / L, d[1] / L}, tol = 64 * DBL_EPSILON * fmax(1, hypot(x[0], x[1]));
+    double x[2] = {d[0] / L, d[1] / L}, tol = 64 * DBL_EPSILON * fmax(1, tc__hypot(x[0], x[1]));
     candidate best = {0, 0, INFINITY, INFINITY, 0};
     candidates_from(B, D, E, x, 0, tol, &best);
     candidates_from(B, D, E, x, 1, tol, &best);
@@ -168,7 +169,7 @@ void tc__hermite_eval(const double *o, const tc_at *at, double *value, double *g
     double xs[2], xt[2];
     jacobian(P, st[0], st[1], xs, xt);
     double det = tc__cross(xs, xt);
-    if (!(fabs(det) > 1e-12 * hypot(xs[0], xs[1]) * hypot(xt[0], xt[1]))) {
+    if (!(fabs(det) > 1e-12 * tc__hypot(xs[0], xs[1]) * tc__hypot(xt[0], xt[1]))) {
         jacobian(P, fmin(1, fmax(0, st[0])), fmin(1, fmax(0, st[1])), xs, xt);
         det = tc__cross(xs, xt);
     }
@@ -199,7 +200,7 @@ static void wedge_hessian(const struct tc_mesh *m, const tc_wedge_set *ws, const
             seen[rows / 2] = ws->of_corner[cj];
             double dj[2];
             tc__sub(dj, tc__vxy(m, m->tri[cj]), pv);
-            double len = hypot(dj[0], dj[1]), u[2] = {dj[0] / len, dj[1] / len};
+            double len = tc__hypot(dj[0], dj[1]), u[2] = {dj[0] / len, dj[1] / len};
             const double *gj = cg + (size_t)cj * 2 * nc;
             A[rows][0] = u[0], A[rows][1] = u[1], A[rows][2] = 0;
             A[rows + 1][0] = 0, A[rows + 1][1] = u[0], A[rows + 1][2] = u[1];

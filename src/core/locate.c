@@ -103,7 +103,7 @@ static void grow_expansion(double *h, int *n, double b) {
 /* The exact sign of (a0 + a1)(b0 + b1) - (c0 + c1)(d0 + d1): sixteen exact
  * partial products summed into one expansion, whose sign is that of its most
  * significant non-zero component. */
-static int exact_det_sign(const double a[2], const double b[2], const double c[2], const double d[2]) {
+static __attribute__((noinline)) int exact_det_sign(const double a[2], const double b[2], const double c[2], const double d[2]) {
     double h[16];
     int n = 0;
     for (int i = 0; i < 2; i++)
@@ -124,7 +124,7 @@ static int exact_det_sign(const double a[2], const double b[2], const double c[2
 /* The exact sign of cross(e - s, p - s). The fast path evaluates exactly the
  * expression of the rule; only when its sign is not certified are the four
  * differences split into exact pairs and the determinant summed exactly. */
-static int orient_sign(double sx, double sy, double ex, double ey, double px, double py) {
+static inline __attribute__((always_inline)) int orient_sign(double sx, double sy, double ex, double ey, double px, double py) {
     double l = (ex - sx) * (py - sy), r = (ey - sy) * (px - sx), det = l - r, sum;
     /* Opposite-signed (or zero) products: no cancellation, the sign is exact. */
     if (l > 0) {

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/fhypot.h"
 #include "core/lsq.h"
 
 /* Reduces A (rows x cols, row-major, leading dimension TC_LSQ_MAXCOLS) to R in
@@ -14,12 +15,12 @@ static int householder(double A[][TC_LSQ_MAXCOLS], int rows, int cols, double B[
     double colmax = 0;
     for (int j = 0; j < cols; j++) {
         double s = 0;
-        for (int i = 0; i < rows; i++) s = hypot(s, A[i][j]);
+        for (int i = 0; i < rows; i++) s = tc__hypot(s, A[i][j]);
         if (s > colmax) colmax = s;
     }
     for (int j = 0; j < cols; j++) {
         double norm = 0;
-        for (int i = j; i < rows; i++) norm = hypot(norm, A[i][j]);
+        for (int i = j; i < rows; i++) norm = tc__hypot(norm, A[i][j]);
         if (!(norm > rtol * colmax)) return -1;
         double alpha = A[j][j] > 0 ? -norm : norm;
         double v0 = A[j][j] - alpha; /* reflector v = (v0, A[j+1..][j]) */

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/internal.h"
 
@@ -70,15 +71,15 @@ static int check_triangle(const tc_mesh_desc *d, int32_t t, tc_diags *dg) {
             return tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index %d out of range (%d vertices)",
                                 (int)v[k], (int)d->nverts);
         }
+    const double *p0 = d->xy + 2 * (size_t)v[0], *p1 = d->xy + 2 * (size_t)v[1], *p2 = d->xy + 2 * (size_t)v[2];
+    int repeated = v[0] == v[1] || v[1] == v[2] || v[0] == v[2];
+    if (!repeated && tc__nonzero_area(p0, p1, p2)) return TC_OK; /* the path is formatted only on failure */
     snprintf(path, sizeof path, "triangles[%d]", (int)t);
-    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
+    if (repeated)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "degenerate triangle: a vertex appears twice in [%d, %d, %d]",
                             (int)v[0], (int)v[1], (int)v[2]);
-    const double *p0 = d->xy + 2 * (size_t)v[0], *p1 = d->xy + 2 * (size_t)v[1], *p2 = d->xy + 2 * (size_t)v[2];
-    if (!tc__nonzero_area(p0, p1, p2))
-        return tc_diags_add(dg, TC_SEV_ERROR, path, "zero-area triangle: vertices %d, %d, %d are collinear or coincide",
-                            (int)v[0], (int)v[1], (int)v[2]);
-    return TC_OK;
+    return tc_diags_add(dg, TC_SEV_ERROR, path, "zero-area triangle: vertices %d, %d, %d are collinear or coincide",
+                        (int)v[0], (int)v[1], (int)v[2]);
 }
 
 /* The triangles as given, or the quads checked and split (quads.c). */
@@ -122,7 +123,7 @@ static double aspect_ratio(const struct tc_mesh *m, int32_t t) {
     double e[3][2], longest = 0;
     for (int k = 0; k < 3; k++) {
         tc__sub(e[k], tc__vxy(m, v[(k + 1) % 3]), tc__vxy(m, v[k]));
-        longest = fmax(longest, hypot(e[k][0], e[k][1]));
+        longest = fmax(longest, tc__hypot(e[k][0], e[k][1]));
     }
     double area2 = fabs(tc__cross(e[0], e[2])); /* twice the area */
     return longest * longest / area2;

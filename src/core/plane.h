@@ -5,10 +5,12 @@
 
 #include <math.h>
 
+#include "core/fhypot.h"
+
 /* Adds the unit upward normal of the plane with gradient g to the sum S.
  * The normal of z = g.x is (-g, 1) / |(-g, 1)|; S[2] stays positive. */
 static inline void tc__normal_acc(double S[3], const double g[2]) {
-    double inv = 1.0 / hypot(1.0, hypot(g[0], g[1]));
+    double inv = 1.0 / tc__hypot(1.0, tc__hypot(g[0], g[1]));
     S[0] -= g[0] * inv;
     S[1] -= g[1] * inv;
     S[2] += inv;

@@ -43,6 +43,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/internal.h"
 #include "core/recon.h"
@@ -73,7 +74,7 @@ typedef struct {
 /* |e||f| (1 + cos angle(e, f)). For an obtuse angle the sum cancels; there
  * (|e||f|)^2 - (e.f)^2 = (e x f)^2 turns it into a quotient of positive terms. */
 static double one_plus_cos(const double e[2], const double f[2]) {
-    double ef = hypot(e[0], e[1]) * hypot(f[0], f[1]), d = tc__dot(e, f);
+    double ef = tc__hypot(e[0], e[1]) * tc__hypot(f[0], f[1]), d = tc__dot(e, f);
     if (d >= 0) return ef + d;
     double c = tc__cross(e, f);
     return c / (ef - d) * c;
@@ -84,7 +85,7 @@ static double one_plus_cos(const double e[2], const double f[2]) {
  * tau = (|ab| + |ac| - |bc|) / (2|ab|) = |ac| (1 + cos a) / perimeter. */
 static void incircle_touch(const double e[2], const double f[2], double *rho, double *tau) {
     double h[2] = {f[0] - e[0], f[1] - e[1]};
-    double le = hypot(e[0], e[1]), per = le + hypot(f[0], f[1]) + hypot(h[0], h[1]);
+    double le = tc__hypot(e[0], e[1]), per = le + tc__hypot(f[0], f[1]) + tc__hypot(h[0], h[1]);
     *rho = fabs(tc__cross(e, f)) / per;
     *tau = one_plus_cos(e, f) / (le * per);
 }
@@ -142,7 +143,7 @@ static int geometry(const struct tc_mesh *m, int32_t t, ps_geom *g, tc_diags *dg
     for (int k = 0; k < 3; k++) {
         double e[2];
         tc__sub(e, g->r[(k + 1) % 3], g->r[k]);
-        per += len[k] = hypot(e[0], e[1]);
+        per += len[k] = tc__hypot(e[0], e[1]);
     }
     for (int i = 0; i < 3; i++) g->zeta[i] = len[(i + 1) % 3] / per;
     for (int k = 0; k < 3; k++) g->alpha[k] = split_param(m, t, k);

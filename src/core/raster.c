@@ -8,6 +8,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/ct.h"
+#include "core/geom.h"
 #include "core/internal.h"
 #include "core/locate.h"
 #include "core/recon.h"
@@ -26,6 +28,7 @@ typedef struct {
     const tc_render_options *o;
     float *values;
     int32_t *owner;
+    const double *xs; /* [width] pixel-centre x of each column, as tc_viewport_pixel_center gives it */
     int32_t nbands;
     atomic_int next_band;
     atomic_int timed_out;
@@ -55,7 +58,72 @@ static void pixel_range(double a, double b, double origin, double step, int32_t 
 
 /* Owner encoding while a band is rasterized: -1 none, t >= 0 strict owner,
  * -2 - t a closed-only candidate (points on the outer boundary; the lowest
- * index wins, as in tc_locate). */
+ * index wins, as in tc_locate). Returns the test's result. */
+static int claim(const band *bd, const struct tc_slot *s, int32_t i, int32_t j, double y) {
+    const tc_viewport *vp = bd->jb->vp;
+    int hit = tc__slot_test(s, bd->jb->xs[i], y);
+    if (hit == TC_SLOT_OUT) return hit;
+    int32_t *o = &bd->jb->owner[(size_t)j * vp->width + i];
+    if (hit == TC_SLOT_OWN) *o = s->t;
+    else if (*o == -1 || (*o <= -2 && -2 - *o > s->t)) *o = -2 - s->t;
+    return hit;
+}
+
+/* Where row y crosses the triangle, approximately: [*xl, *xr], or 0 if it
+ * misses it. Only a starting guess; claim() decides every pixel it touches. */
+static int row_hull(const struct tc_slot *s, double y, double *xl, double *xr) {
+    int any = 0;
+    *xl = INFINITY, *xr = -INFINITY;
+    for (int k = 0; k < 3; k++) {
+        int n = k == 2 ? 0 : k + 1;
+        double py = s->y[k], qy = s->y[n];
+        if ((py - y) * (qy - y) > 0) continue;
+        double x = py == qy ? s->x[k] : s->x[k] + (y - py) * (s->x[n] - s->x[k]) / (qy - py);
+        if (py == qy) *xl = fmin(*xl, s->x[n]), *xr = fmax(*xr, s->x[n]);
+        *xl = fmin(*xl, x), *xr = fmax(*xr, x);
+        any = 1;
+    }
+    return any;
+}
+
+/* The pixels of row j (within [i0, i1]) the triangle contains, each owned
+ * exactly as tc_locate would own its centre. Pixel centres along a row are
+ * non-decreasing in x (each step of tc_viewport_pixel_center rounds
+ * monotonically) and the triangle's closed set and its strict-ownership set are
+ * both convex, so the contained pixels form one run: exact tests at its two
+ * ends, outward until the first pixel out, and — when both ends are strictly
+ * owned — everything between is strictly owned without a test. */
+static void cover_row(const band *bd, const struct tc_slot *s, int32_t j, int32_t i0, int32_t i1) {
+    const tc_viewport *vp = bd->jb->vp;
+    double x, y, xl, xr, step = (vp->x1 - vp->x0) / vp->width;
+    tc_viewport_pixel_center(vp, 0, j, &x, &y);
+    if (!row_hull(s, y, &xl, &xr)) return;
+    double fa = ceil((xl - vp->x0) / step - 0.5), fb = floor((xr - vp->x0) / step - 0.5);
+    int32_t a = fa < i0 ? i0 : fa > i1 ? i1 : (int32_t)fa, b = fb > i1 ? i1 : fb < i0 ? i0 : (int32_t)fb;
+    if (b < a) { /* a thin crossing between two centres: test the few around it */
+        int32_t lo = b - 1 < i0 ? i0 : b - 1, hi = a + 1 > i1 ? i1 : a + 1;
+        for (int32_t i = lo; i <= hi; i++) claim(bd, s, i, j, y);
+        return;
+    }
+    int ha = TC_SLOT_OUT, hb = TC_SLOT_OUT;
+    int32_t a0 = a, b0 = b;
+    while (a <= b && (ha = claim(bd, s, a, j, y)) == TC_SLOT_OUT) a++;
+    if (a > b) { /* nothing inside the guess: the run, if any, lies just beside it */
+        for (int32_t i = a0 - 1; i >= i0 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i--) {}
+        for (int32_t i = b0 + 1; i <= i1 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i++) {}
+        return;
+    }
+    while (b > a && (hb = claim(bd, s, b, j, y)) == TC_SLOT_OUT) b--;
+    if (b == a) hb = ha;
+    for (int32_t i = a - 1; i >= i0 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i--) {}
+    for (int32_t i = b + 1; i <= i1 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i++) {}
+    int32_t *o = bd->jb->owner + (size_t)j * vp->width;
+    for (int32_t i = a + 1; i < b; i++) {
+        if (ha == TC_SLOT_OWN && hb == TC_SLOT_OWN) o[i] = s->t;
+        else claim(bd, s, i, j, y);
+    }
+}
+
 static void cover(void *ctx, const struct tc_slot *s) {
     const band *bd = ctx;
     const tc_viewport *vp = bd->jb->vp;
@@ -67,38 +135,65 @@ static void cover(void *ctx, const struct tc_slot *s) {
     pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, vp->height, &j0, &j1);
     if (j0 < bd->j0) j0 = bd->j0;
     if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
-    for (int32_t j = j0; j <= j1; j++)
-        for (int32_t i = i0; i <= i1; i++) {
-            double x, y;
-            tc_viewport_pixel_center(vp, i, j, &x, &y);
-            int hit = tc__slot_test(s, x, y);
-            if (hit == TC_SLOT_OUT) continue;
-            int32_t *o = &bd->jb->owner[(size_t)j * vp->width + i];
-            if (hit == TC_SLOT_OWN) *o = s->t;
-            else if (*o == -1 || (*o <= -2 && -2 - *o > s->t)) *o = -2 - s->t;
-        }
+    if (i0 > i1) return;
+    for (int32_t j = j0; j <= j1; j++) cover_row(bd, s, j, i0, i1);
 }
 
+/* The owner of pixel p, turning a closed-only candidate (-2 - t) into t. */
+static int32_t settle(int32_t *owner, size_t p) {
+    int32_t t = owner[p];
+    if (t <= -2) t = owner[p] = -2 - t;
+    return t;
+}
+
+/* Pixels [i, i + n) of a row, owned by t whose frame is f: each pixel as
+ * tc_eval_triangle evaluates it (tc__frame, tc__frame_at, the method's eval).
+ * The cubic methods go through tc__ct_span, which does that same arithmetic
+ * four pixels at a time. */
+static void shade_run(const job *jb, const tc_frame *f, int32_t t, const double *xs, double y, int32_t n, float *out) {
+    const tc_recon *r = jb->r;
+    int nc = r->m->nc;
+    const double *coef = r->coef + (size_t)t * nc * r->ncoef;
+    if (r->eval == tc__ct_eval) {
+        tc__ct_span(f, coef, nc, xs, y, n, out, NULL);
+        return;
+    }
+    double v[TC_MAX_CHANNELS];
+    for (int32_t i = 0; i < n; i++) {
+        tc_at at;
+        tc__frame_at(f, xs[i], y, &at);
+        for (int ch = 0; ch < nc; ch++) r->eval(coef + (size_t)ch * r->ncoef, &at, &v[ch], NULL);
+        for (int ch = 0; ch < nc; ch++) out[(size_t)i * nc + ch] = (float)v[ch];
+    }
+}
+
+/* Each row split into runs of one owner; the frame set up once per triangle. */
 static void shade_band(const band *bd) {
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
     int nc = jb->r->m->nc;
-    double v[TC_MAX_CHANNELS];
-    for (int32_t j = bd->j0; j < bd->j1; j++)
-        for (int32_t i = 0; i < vp->width; i++) {
-            size_t p = (size_t)j * vp->width + i;
-            int32_t t = jb->owner[p];
-            if (t <= -2) t = jb->owner[p] = -2 - t;
-            float *out = jb->values + p * nc;
+    tc_frame f;
+    memset(&f, 0, sizeof f); /* set before use (cur == -1); this quiets -Wmaybe-uninitialized */
+    int32_t cur = -1;
+    for (int32_t j = bd->j0; j < bd->j1; j++) {
+        double x, y;
+        tc_viewport_pixel_center(vp, 0, j, &x, &y);
+        size_t row = (size_t)j * vp->width;
+        for (int32_t i = 0; i < vp->width;) {
+            int32_t t = settle(jb->owner, row + i), e = i + 1;
+            while (e < vp->width && settle(jb->owner, row + e) == t) e++;
+            float *out = jb->values + (row + i) * nc;
             if (t < 0) {
-                for (int ch = 0; ch < nc; ch++) out[ch] = jb->o->background ? (float)jb->o->background[ch] : 0.0f;
-                continue;
+                for (int32_t p = 0; p < e - i; p++)
+                    for (int ch = 0; ch < nc; ch++)
+                        out[(size_t)p * nc + ch] = jb->o->background ? (float)jb->o->background[ch] : 0.0f;
+            } else {
+                if (t != cur) tc__frame(jb->r->m, t, &f), cur = t;
+                shade_run(jb, &f, t, jb->xs + i, y, e - i, out);
             }
-            double x, y;
-            tc_viewport_pixel_center(vp, i, j, &x, &y);
-            tc_eval_triangle(jb->r, t, x, y, v, NULL);
-            for (int ch = 0; ch < nc; ch++) out[ch] = (float)v[ch];
+            i = e;
         }
+    }
 }
 
 static void render_band(job *jb, int32_t b) {
@@ -149,10 +244,20 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     static const tc_render_options defaults = {NULL, 1, 0};
     if (!valid_viewport(vp)) return TC_EINVAL;
     int32_t *own = owner ? owner : tc__malloc((size_t)vp->width * vp->height, sizeof *own);
-    if (!own) return TC_ENOMEM;
-    job jb = {r, L, vp, o ? o : &defaults, values, own, (vp->height + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
+    double *xs = tc__malloc((size_t)vp->width, sizeof *xs);
+    if (!own || !xs) {
+        if (!owner) free(own);
+        free(xs);
+        return TC_ENOMEM;
+    }
+    for (int32_t i = 0; i < vp->width; i++) {
+        double unused;
+        tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
+    }
+    job jb = {r, L, vp, o ? o : &defaults, values, own, xs, (vp->height + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
     run_threads(&jb, jb.o->threads > 1 ? jb.o->threads : 1);
     if (!owner) free(own);
+    free(xs);
     return atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;
 }
 

@@ -36,6 +36,14 @@ typedef struct {
     double scale[TC_MAX_CHANNELS];
 } scratch;
 
+static int all_finite(const double *x, size_t n) {
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
+/* The per-element checks below format the element's path only on failure:
+ * snprintf for every vertex of a large mesh cost more than the checks. */
 static int check_finite(const double *x, size_t n, const char *path, tc_diags *dg) {
     for (size_t i = 0; i < n; i++)
         if (!isfinite(x[i])) return tc_diags_add(dg, TC_SEV_ERROR, path, "number is not finite");
@@ -62,6 +70,7 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
     int nc = m->nc, st = TC_OK, nk = elem_corners(m);
     char path[64];
     for (int32_t v = 0; v < m->nv; v++) {
+        if (all_finite(d->values + (size_t)v * nc, (size_t)nc)) continue;
         snprintf(path, sizeof path, "values[%d]", (int)v);
         if (check_finite(d->values + (size_t)v * nc, (size_t)nc, path, dg) != TC_OK) st = TC_EINVAL;
     }
@@ -108,10 +117,10 @@ static int alloc_gradients(struct tc_mesh *m) {
 /* Converts a vertex's normals (one per channel) to gradients, g = -(nx, ny)/nz. */
 static int normal_to_gradient(const double *n, int nc, int32_t v, double *g, tc_diags *dg) {
     char path[48];
-    snprintf(path, sizeof path, "normals[%d]", (int)v);
     for (int ch = 0; ch < nc; ch++) {
         const double *nn = n + 3 * ch;
         if (nc > 1) snprintf(path, sizeof path, "normals[%d][%d]", (int)v, ch);
+        else snprintf(path, sizeof path, "normals[%d]", (int)v);
         if (!(nn[2] > 0)) {
             return tc_diags_add(dg, TC_SEV_ERROR, path, "N.z = %g must be > 0 (a height field's normal points up)",
                                 nn[2]);
@@ -133,7 +142,8 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
     for (int32_t v = 0; v < m->nv; v++) {
         if (d->gradients) {
             if (d->gradients_mask && !d->gradients_mask[v]) continue;
-            snprintf(path, sizeof path, "gradients[%d]", (int)v);
+            if (!all_finite(d->gradients + (size_t)v * stride, stride))
+                snprintf(path, sizeof path, "gradients[%d]", (int)v);
             if (check_finite(d->gradients + (size_t)v * stride, stride, path, dg) != TC_OK) {
                 st = TC_EINVAL;
                 continue;
@@ -141,7 +151,8 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
             memcpy(g, d->gradients + (size_t)v * stride, stride * sizeof *g);
         } else {
             if (d->normals_mask && !d->normals_mask[v]) continue;
-            snprintf(path, sizeof path, "normals[%d]", (int)v);
+            if (!all_finite(d->normals + (size_t)v * 3 * nc, 3 * (size_t)nc))
+                snprintf(path, sizeof path, "normals[%d]", (int)v);
             if (check_finite(d->normals + (size_t)v * 3 * nc, 3 * (size_t)nc, path, dg) != TC_OK ||
                 normal_to_gradient(d->normals + (size_t)v * 3 * nc, nc, v, g, dg) != TC_OK) {
                 st = TC_EINVAL;

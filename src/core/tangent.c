@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/internal.h"
 #include "core/lsq.h"
@@ -86,11 +87,11 @@ static void gather(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wed
  * near samples count more; exact for quadratics when the quadratic fit runs. */
 static void fit(const samples *s, const double *zv, int nc, double *g) {
     double h = 0;
-    for (int i = 0; i < s->n; i++) h = fmax(h, hypot(s->d[i][0], s->d[i][1]));
+    for (int i = 0; i < s->n; i++) h = fmax(h, tc__hypot(s->d[i][0], s->d[i][1]));
     for (int cols = s->n >= 6 ? 5 : 2; cols >= 2; cols -= 3) {
         double A[TC_LSQ_MAXROWS][TC_LSQ_MAXCOLS], B[TC_LSQ_MAXROWS][TC_LSQ_MAXRHS], X[TC_LSQ_MAXCOLS][TC_LSQ_MAXRHS];
         for (int i = 0; i < s->n; i++) {
-            double x = s->d[i][0] / h, y = s->d[i][1] / h, w = 1.0 / hypot(x, y);
+            double x = s->d[i][0] / h, y = s->d[i][1] / h, w = 1.0 / tc__hypot(x, y);
             double row[5] = {x, y, 0.5 * x * x, x * y, 0.5 * y * y};
             for (int j = 0; j < cols; j++) A[i][j] = row[j] * w;
             for (int ch = 0; ch < nc; ch++) B[i][ch] = (s->z[i][ch] - zv[ch]) * w;

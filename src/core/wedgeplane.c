@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/plane.h"
 #include "core/tangent.h"
@@ -115,7 +116,7 @@ static void coupling(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
 /* |sin| of the angle between a wedge's two sides (0 when they share a line). */
 static double side_sin(const tc_wedge *w) {
     const double *a = w->dir[0], *b = w->dir[1];
-    return fabs(tc__cross(a, b)) / (hypot(a[0], a[1]) * hypot(b[0], b[1]));
+    return fabs(tc__cross(a, b)) / (tc__hypot(a[0], a[1]) * tc__hypot(b[0], b[1]));
 }
 
 /* How far a wedge is pulled towards a bounded rule: 0 for a well-shaped wedge,
@@ -159,7 +160,7 @@ static void side_plane(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
 static int sides_parallel(const tc_wedge *w) {
     const double *a = w->dir[0], *b = w->dir[1];
     return w->side_edge[0] == w->side_edge[1] ||
-           (fabs(tc__cross(a, b)) <= TC_COLLINEAR_TOL * hypot(a[0], a[1]) * hypot(b[0], b[1]) && tc__dot(a, b) > 0);
+           (fabs(tc__cross(a, b)) <= TC_COLLINEAR_TOL * tc__hypot(a[0], a[1]) * tc__hypot(b[0], b[1]) && tc__dot(a, b) > 0);
 }
 
 /* Corrected step 4. A 180-degree wedge (or one whose sides share a ray) takes
@@ -221,7 +222,7 @@ static int literal_collinear(const tc_wedge *w, const double gp[2], const double
     *amp = INFINITY;
     if (!(P[2] > 0)) return -1;
     tc__normal_to_grad(P, out);
-    double in = fmax(hypot(gp[0], gp[1]), hypot(gn[0], gn[1])), g = hypot(out[0], out[1]);
+    double in = fmax(tc__hypot(gp[0], gp[1]), tc__hypot(gn[0], gn[1])), g = tc__hypot(out[0], out[1]);
     *amp = in > 0 ? g / in : g > 0 ? INFINITY : 1;
     return *amp <= PROJECT_LIMIT ? 0 : -1;
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/ct.h"
 #include "meshgen.h"
 #include "props.h"
 
@@ -77,6 +78,83 @@ TEST(raster_matches_locate_and_eval) {
     check_tile(&s, &aligned, 3);
     tc_viewport part = {0.3, 0.41, 0.52, 0.6, 40, 33}; /* a tile inside the mesh */
     check_tile(&s, &part, 2);
+    scene_free(&s);
+}
+
+/* The row-run owner pass against tc_locate on many jittered meshes and tiles:
+ * pixels from 1/5 of a cell to 1/200, tiles inside, across and beyond the mesh. */
+TEST(raster_runs_match_locate_fuzz) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 25);
+    for (int k = 0; k < 24; k++) {
+        scene s;
+        int n = 2 + trng_int(&rng, 14);
+        tmesh_grid(&s.g, n, n, 0.3 * trng_uniform(&rng), -1, &rng);
+        if (trng_int(&rng, 2)) tmesh_delaunay_flips(&s.g);
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        s.m = tmesh_build(&s.g);
+        s.r = NULL, s.L = NULL;
+        if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
+        if (s.m) CHECK(tc_locator_new(s.m, &s.L) == TC_OK);
+        if (!s.r) {
+            scene_free(&s);
+            continue;
+        }
+        double x0 = 1.2 * trng_uniform(&rng) - 0.3, y0 = 1.2 * trng_uniform(&rng) - 0.3;
+        double w = 0.05 + trng_uniform(&rng), h = 0.05 + trng_uniform(&rng);
+        tc_viewport vp = {x0, y0, x0 + w, y0 + h, 5 + trng_int(&rng, 120), 5 + trng_int(&rng, 120)};
+        check_tile(&s, &vp, 1 + trng_int(&rng, 3));
+        scene_free(&s);
+    }
+}
+
+/* The cubic's pixels go through tc__ct_span: its portable build must give the
+ * same bits as the AVX2 one the CPU picks (and as tc_eval_points). */
+TEST(raster_span_portable_build) {
+    scene s;
+    scene_init(&s, 9, 0.25, 3, tc_test_seed() + 28);
+    if (!s.r) return;
+    tc_viewport vp = {-0.07, -0.03, 1.05, 1.01, 83, 71};
+    tc__ct_span_force_generic(1);
+    check_tile(&s, &vp, 2);
+    tc__ct_span_force_generic(0);
+    check_tile(&s, &vp, 1);
+    scene_free(&s);
+}
+
+/* tc__ct_span's doubles against tc_eval_triangle's, bit for bit, both builds:
+ * rows through every triangle of a mesh, points inside and a little outside. */
+TEST(ct_span_doubles_equal_point_evaluation) {
+    scene s;
+    scene_init(&s, 6, 0.25, 2, tc_test_seed() + 29);
+    if (!s.r) return;
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 30);
+    const tc_mesh *m = tc_recon_mesh(s.r);
+    int nc = tc_mesh_channel_count(m), bad = 0;
+    for (int generic = 0; generic < 2; generic++) {
+        tc__ct_span_force_generic(generic);
+        for (int32_t t = 0; t < tc_mesh_triangle_count(m); t++) {
+            const int32_t *v = tc_mesh_triangles(m) + 3 * t;
+            const double *xy = tc_mesh_xy(m);
+            double lo = fmin(xy[2 * v[0]], fmin(xy[2 * v[1]], xy[2 * v[2]]));
+            double hi = fmax(xy[2 * v[0]], fmax(xy[2 * v[1]], xy[2 * v[2]]));
+            double y = xy[2 * v[0] + 1] + 0.2 * (trng_uniform(&rng) - 0.5) * (hi - lo);
+            enum { N = 13 };
+            double xs[N], dv[N * 3], pv[3];
+            float fv[N * 3];
+            for (int i = 0; i < N; i++) xs[i] = lo + (hi - lo) * (1.2 * trng_uniform(&rng) - 0.1);
+            tc_frame f;
+            tc__frame(m, t, &f);
+            tc__ct_span(&f, tc_recon_coefs(s.r) + (size_t)t * nc * TC_CT_ORDINATES, nc, xs, y, N, fv, dv);
+            for (int i = 0; i < N; i++) {
+                tc_eval_triangle(s.r, t, xs[i], y, pv, NULL);
+                bad += memcmp(pv, dv + i * nc, (size_t)nc * sizeof *pv) != 0;
+            }
+        }
+    }
+    tc__ct_span_force_generic(0);
+    CHECK_MSG(bad == 0, "%d points differ from tc_eval_triangle", bad);
     scene_free(&s);
 }
 
@@ -173,5 +251,33 @@ TEST(raster_centres_exactly_on_vertices_and_edges) {
     CHECK(x == 8.0 / 64 && y == 23.0 / 64); /* the centres really are the lattice */
     check_tile(&s, &vp, 1);
     check_tile(&s, &vp, 4);
+    scene_free(&s);
+}
+
+/* tc_eval_points visits large batches in Z order: every result must still be
+ * the one tc_locate + tc_eval_triangle give for that point, bit for bit,
+ * including points outside the mesh and duplicated points. */
+TEST(eval_points_order_changes_no_bit) {
+    scene s;
+    scene_init(&s, 10, 0.25, 2, tc_test_seed() + 26);
+    if (!s.r) return;
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 27);
+    enum { N = 5000 };
+    static double xy[2 * N], v[2 * N], g[4 * N], v1[2], g1[4];
+    static int32_t tri[N];
+    for (int i = 0; i < N; i++) {
+        xy[2 * i] = 1.4 * trng_uniform(&rng) - 0.2, xy[2 * i + 1] = 1.4 * trng_uniform(&rng) - 0.2;
+        if (i % 7 == 3) xy[2 * i] = xy[2 * i - 2], xy[2 * i + 1] = xy[2 * i - 1];
+    }
+    tc_eval_points(s.r, s.L, N, xy, v, g, tri);
+    int bad = 0;
+    for (int i = 0; i < N; i++) {
+        int32_t t = tc_locate(s.L, xy[2 * i], xy[2 * i + 1]);
+        memset(v1, 0, sizeof v1), memset(g1, 0, sizeof g1);
+        if (t >= 0) tc_eval_triangle(s.r, t, xy[2 * i], xy[2 * i + 1], v1, g1);
+        bad += t != tri[i] || memcmp(v1, v + 2 * i, sizeof v1) || memcmp(g1, g + 4 * i, sizeof g1);
+    }
+    CHECK_MSG(bad == 0, "%d of %d points differ from one-by-one evaluation", bad, N);
     scene_free(&s);
 }

@@ -1,0 +1,24 @@
+#!/bin/sh
+# run.sh — `make bench`: writes the inputs, times scipy, matplotlib and tocher on them in one run,
+# then the daemon under wrk, and writes docs/performance.md from the figures (bench/perf/report.py).
+#
+#     bench/perf/run.sh BUILD_DIR          (BENCH_QUICK=1: the three small meshes only)
+set -eu
+B=${1:-build}
+OUT=$B/perf
+PY=/usr/bin/python3
+Q=""
+[ "${BENCH_QUICK:-0}" = 1 ] && Q=--quick
+mkdir -p "$OUT"
+echo "bench: inputs -> $OUT"
+$PY bench/perf/meshes.py "$OUT" $Q
+names=$(tail -n +2 "$OUT/meshes.tsv" | cut -f1)
+echo "bench: scipy and matplotlib"
+$PY bench/perf/peers.py "$OUT" $Q > "$OUT/peers.json"
+echo "bench: tocher"
+"$B/bench_perf" "$OUT" $names > "$OUT/tocher.json"
+echo "bench: tocherd under wrk"
+$PY bench/perf/daemon.py "$B" 10 > "$OUT/daemon.json"
+lscpu > "$OUT/lscpu.txt" 2>/dev/null || true
+$PY bench/perf/report.py "$OUT" docs/performance.md
+echo "bench: wrote docs/performance.md"
