@@ -86,10 +86,23 @@ static void two_sum(double a, double b, double *hi, double *lo) {
     *lo = (a - av) + (b - bv);
 }
 
-/* a * b == *hi + *lo exactly (fma rounds the residual once, and it is representable). */
+/* a == *hi + *lo with each half of 26 significant bits (Veltkamp's split). */
+static void split(double a, double *hi, double *lo) {
+    double c = 134217729.0 * a, big = c - a; /* 2^27 + 1 */
+    *hi = c - big;
+    *lo = a - *hi;
+}
+
+/* a * b == *hi + *lo exactly (Dekker's product: the halves' products are exact,
+ * so no fma is needed — without a hardware fma, libm's is a slow software call;
+ * -std=c11 keeps the compiler from contracting these lines into one). */
 static void two_prod(double a, double b, double *hi, double *lo) {
+    double ah, al, bh, bl;
     *hi = a * b;
-    *lo = fma(a, b, -*hi);
+    split(a, &ah, &al);
+    split(b, &bh, &bl);
+    double e1 = *hi - ah * bh, e2 = e1 - al * bh, e3 = e2 - ah * bl;
+    *lo = al * bl - e3;
 }
 
 /* Adds b to the expansion h[0 .. *n) (non-overlapping, increasing magnitude),
@@ -107,14 +120,18 @@ static __attribute__((noinline)) int exact_det_sign(const double a[2], const dou
     double h[16];
     int n = 0;
     for (int i = 0; i < 2; i++)
-        for (int j = 0; j < 2; j++) {
+        for (int j = 0; j < 2; j++) { /* zero parts (exact differences, the common case) add nothing */
             double hi, lo;
-            two_prod(a[i], b[j], &hi, &lo);
-            grow_expansion(h, &n, lo);
-            grow_expansion(h, &n, hi);
-            two_prod(c[i], d[j], &hi, &lo);
-            grow_expansion(h, &n, -lo);
-            grow_expansion(h, &n, -hi);
+            if (a[i] != 0 && b[j] != 0) {
+                two_prod(a[i], b[j], &hi, &lo);
+                if (lo != 0) grow_expansion(h, &n, lo);
+                grow_expansion(h, &n, hi);
+            }
+            if (c[i] != 0 && d[j] != 0) {
+                two_prod(c[i], d[j], &hi, &lo);
+                if (lo != 0) grow_expansion(h, &n, -lo);
+                grow_expansion(h, &n, -hi);
+            }
         }
     for (int i = n - 1; i >= 0; i--)
         if (h[i] != 0) return sign_of(h[i]);

@@ -49,4 +49,8 @@ enum { TC_PS_COEFS = 25 };
 void tc__ps_eval_piece(const double *coef, int piece, const double lam[3], const double dl1[2], const double dl2[2],
                        double *value, double *grad);
 
+/* Tests: the mesh size from which tc_eval_points visits batches in Z order
+ * (default 32768 triangles), so the sorted path can be checked on small meshes. */
+void tc__eval_sort_min_triangles(int32_t nt);
+
 #endif
