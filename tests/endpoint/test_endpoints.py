@@ -31,7 +31,6 @@ import math
 import os
 import random
 import re
-import select
 import shutil
 import signal
 import socket
@@ -42,6 +41,8 @@ import threading
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tests", "pylib"))
+from daemonio import first_line  # noqa: E402
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
 if not os.path.isabs(BUILD) and not os.path.isdir(BUILD):
     BUILD = os.path.join(ROOT, BUILD)
@@ -106,23 +107,11 @@ class Daemon:
             self.proc = subprocess.Popen([TOCHERD, "--listen", "127.0.0.1:0", *flags], stdin=subprocess.DEVNULL,
                                          stdout=subprocess.PIPE, stderr=errf, env=daemon_env())
         DAEMONS.append(self)
-        self.line = self._first_line(30)
+        self.line = first_line(self.proc, 30)
         m = re.fullmatch(r"tocherd (\S+) listening on http://127\.0\.0\.1:(\d+)", self.line)
         if not m:
             raise RuntimeError("%s: startup line %r; stderr: %s" % (name, self.line, self.stderr()[:400]))
         self.version, self.port = m.group(1), int(m.group(2))
-
-    def _first_line(self, timeout):
-        fd, buf, end = self.proc.stdout.fileno(), b"", time.time() + timeout
-        while not buf.endswith(b"\n"):
-            ready, _, _ = select.select([fd], [], [], max(0.0, end - time.time()))
-            if not ready:
-                break
-            chunk = os.read(fd, 512)
-            if not chunk:
-                break
-            buf += chunk
-        return buf.decode("utf-8", "replace").rstrip("\n")
 
     @property
     def pid(self):

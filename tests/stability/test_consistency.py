@@ -16,15 +16,15 @@ import json
 import math
 import os
 import re
-import select
 import shutil
 import struct
 import subprocess
 import sys
 import tempfile
-import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tests", "pylib"))
+from daemonio import first_line  # noqa: E402
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
 if not os.path.isabs(BUILD) and not os.path.isdir(BUILD):
     BUILD = os.path.join(ROOT, BUILD)
@@ -58,23 +58,11 @@ class Daemon:
         self.proc = subprocess.Popen([TOCHERD, "--listen", "127.0.0.1:0", *flags], stdin=subprocess.DEVNULL,
                                      stdout=subprocess.PIPE, stderr=self.err, env=env)
         atexit.register(self.stop)
-        line = self._first_line(30)
+        line = first_line(self.proc, 30)
         m = re.fullmatch(r"tocherd \S+ listening on http://127\.0\.0\.1:(\d+)", line)
         if not m:
             raise RuntimeError("tocherd did not start: %r" % line)
         self.port = int(m.group(1))
-
-    def _first_line(self, timeout):
-        fd, buf, end = self.proc.stdout.fileno(), b"", time.time() + timeout
-        while not buf.endswith(b"\n"):
-            ready, _, _ = select.select([fd], [], [], max(0.0, end - time.time()))
-            if not ready:
-                break
-            chunk = os.read(fd, 512)
-            if not chunk:
-                break
-            buf += chunk
-        return buf.decode("utf-8", "replace").rstrip("\n")
 
     def post(self, path, doc, with_headers=False):
         conn = http.client.HTTPConnection("127.0.0.1", self.port, timeout=300)
