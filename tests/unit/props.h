@@ -21,4 +21,11 @@ void wave_f(const void *ctx, double x, double y, int ch, double *v, double g[2])
  * grid split along diagonal 0 (tmesh_grid(.., diag 0)): cell, then side. */
 double grid_max_error(const tc_recon *rec, int n);
 
+/* Exact data for reproduction tests: linear and quadratic, per channel. */
+void linear_data(const void *ctx, double x, double y, int ch, double *v, double g[2]);
+void quadratic_data(const void *ctx, double x, double y, int ch, double *v, double g[2]);
+/* Worst relative error of value (and gradient when check_grad) against f at
+ * npts random points inside random triangles (barycentric sampling). */
+double tri_reproduction_error(const tc_recon *rec, tfunc f, int npts, trng *r, int check_grad);
+
 #endif

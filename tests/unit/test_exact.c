@@ -9,53 +9,10 @@
 #include "meshgen.h"
 #include "props.h"
 
-static void linear_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
-    (void)ctx;
-    g[0] = 0.7 - 0.2 * ch;
-    g[1] = -1.3 + 0.5 * ch;
-    *v = 2.0 + ch + g[0] * x + g[1] * y;
-}
-
-static void quadratic_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
-    (void)ctx;
-    double a = 0.9 + 0.3 * ch;
-    *v = 1.0 + 0.4 * x - 0.3 * y + a * x * x - 1.1 * x * y + 0.6 * y * y;
-    g[0] = 0.4 + 2 * a * x - 1.1 * y;
-    g[1] = -0.3 - 1.1 * x + 1.2 * y;
-}
-
 static void const_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
     (void)ctx, (void)x, (void)y;
     *v = 3.25 - ch;
     g[0] = g[1] = 0;
-}
-
-/* Worst relative error of value and gradient against f at `npts` random
- * points inside random triangles (barycentric sampling, no point location). */
-static double reproduction_error(const tc_recon *rec, tfunc f, int npts, trng *r, int check_grad) {
-    const tc_mesh *m = tc_recon_mesh(rec);
-    const double *xy = tc_mesh_xy(m);
-    const int32_t *tri = tc_mesh_triangles(m);
-    int nc = tc_mesh_channel_count(m);
-    double worst = 0, vs, gs;
-    recon_scales(rec, &vs, &gs);
-    for (int i = 0; i < npts; i++) {
-        int32_t t = trng_int(r, tc_mesh_triangle_count(m));
-        double a = trng_uniform(r), b = trng_uniform(r);
-        if (a + b > 1) a = 1 - a, b = 1 - b;
-        const double *p0 = xy + 2 * tri[3 * t], *p1 = xy + 2 * tri[3 * t + 1], *p2 = xy + 2 * tri[3 * t + 2];
-        double x = p0[0] + a * (p1[0] - p0[0]) + b * (p2[0] - p0[0]);
-        double y = p0[1] + a * (p1[1] - p0[1]) + b * (p2[1] - p0[1]);
-        double val[TC_MAX_CHANNELS], grad[2 * TC_MAX_CHANNELS];
-        tc_eval_triangle(rec, t, x, y, val, grad);
-        for (int ch = 0; ch < nc; ch++) {
-            double fv, fg[2];
-            f(NULL, x, y, ch, &fv, fg);
-            worst = fmax(worst, fabs(val[ch] - fv) / vs);
-            if (check_grad) worst = fmax(worst, hypot(grad[2 * ch] - fg[0], grad[2 * ch + 1] - fg[1]) / gs);
-        }
-    }
-    return worst;
 }
 
 static tc_recon *make_avg(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan,
@@ -86,7 +43,7 @@ TEST(exact_linear_reproduced_by_every_method) {
     for (int trial = 0; trial < 4; trial++) {
         tmesh g;
         random_flagged_mesh(&g, &r, trial % 2, 12);
-        tmesh_sample(&g, 2, linear_f, NULL, 1, 1, 0);
+        tmesh_sample(&g, 2, linear_data, NULL, 1, 1, 0);
         tc_mesh *m = tmesh_build(&g);
         for (int mi = 0; m && mi < 4; mi++)
             for (int ci = 0; ci < 3; ci++)
@@ -95,7 +52,7 @@ TEST(exact_linear_reproduced_by_every_method) {
                         if (methods[mi] >= TC_METHOD_LINEAR && (ci || wi || ti)) continue;
                         tc_recon *rec = make(m, methods[mi], (tc_cross)ci, (tc_wedges)wi, (tc_tangents)ti);
                         if (!rec) continue;
-                        double e = reproduction_error(rec, linear_f, 300, &r, 1);
+                        double e = tri_reproduction_error(rec, linear_data, 300, &r, 1);
                         worst = fmax(worst, e);
                         CHECK_MSG(e <= 1e-12, "%s cross %s wedges %s tangents %s: linear off by %.3g",
                                   tc_method_name(methods[mi]), tc_cross_name((tc_cross)ci),
@@ -116,16 +73,16 @@ TEST(exact_constant_reproduced_by_constant) {
     tmesh_sample(&g, 3, const_f, NULL, 1, 1, 0);
     tc_mesh *m = tmesh_build(&g);
     tc_recon *rec = m ? make(m, TC_METHOD_CONSTANT, 0, 0, 0) : NULL;
-    if (rec) CHECK(reproduction_error(rec, const_f, 500, &r, 1) == 0);
+    if (rec) CHECK(tri_reproduction_error(rec, const_f, 500, &r, 1) == 0);
     tc_recon_free(rec);
     /* ...and it does not reproduce a linear function: the check above can fail. */
     tmesh_free(&g);
     tc_mesh_free(m);
     random_flagged_mesh(&g, &r, 0, 12);
-    tmesh_sample(&g, 1, linear_f, NULL, 0, 0, 0);
+    tmesh_sample(&g, 1, linear_data, NULL, 0, 0, 0);
     m = tmesh_build(&g);
     rec = m ? make(m, TC_METHOD_CONSTANT, 0, 0, 0) : NULL;
-    if (rec) CHECK(reproduction_error(rec, linear_f, 500, &r, 0) > 1e-3);
+    if (rec) CHECK(tri_reproduction_error(rec, linear_data, 500, &r, 0) > 1e-3);
     tc_recon_free(rec);
     tc_mesh_free(m);
     tmesh_free(&g);
@@ -143,20 +100,20 @@ TEST(exact_quadratic_reproduced_with_exact_gradients) {
     for (int trial = 0; trial < 4; trial++) {
         tmesh g;
         random_flagged_mesh(&g, &r, trial % 2, 12);
-        tmesh_sample(&g, 2, quadratic_f, NULL, 1, 0, 0);
+        tmesh_sample(&g, 2, quadratic_data, NULL, 1, 0, 0);
         tc_mesh *m = tmesh_build(&g);
         for (int ci = 0; m && ci < 3; ci++)
             for (int mi = 0; mi < 2; mi++) {
                 tc_method method = mi ? TC_METHOD_CLOUGH_TOCHER_C1 : TC_METHOD_CLOUGH_TOCHER;
                 tc_recon *rec = make(m, method, (tc_cross)ci, TC_WEDGES_CORRECTED, TC_TANGENTS_GIVEN);
                 if (!rec) continue;
-                double e = reproduction_error(rec, quadratic_f, 400, &r, 1);
+                double e = tri_reproduction_error(rec, quadratic_data, 400, &r, 1);
                 worst = fmax(worst, e);
                 CHECK_MSG(e <= 1e-12, "%s/%s: quadratic off by %.3g", tc_method_name(method),
                           tc_cross_name((tc_cross)ci), e);
                 tc_recon_free(rec);
                 rec = make_avg(m, method, (tc_cross)ci, TC_WEDGES_CORRECTED, TC_TANGENTS_GIVEN, TC_AVERAGE_NORMALS);
-                if (rec && ci == TC_CROSS_SALESIN) salesin = fmax(salesin, reproduction_error(rec, quadratic_f, 400, &r, 1));
+                if (rec && ci == TC_CROSS_SALESIN) salesin = fmax(salesin, tri_reproduction_error(rec, quadratic_data, 400, &r, 1));
                 tc_recon_free(rec);
             }
         tc_mesh_free(m);
@@ -172,11 +129,11 @@ TEST(exact_quadratic_with_estimated_tangents_on_interior) {
     trng_seed(&r, tc_test_seed() + 13);
     tmesh g;
     tmesh_grid(&g, 12, 12, 0.25, -1, &r);
-    tmesh_sample(&g, 1, quadratic_f, NULL, 0, 1, 0);
+    tmesh_sample(&g, 1, quadratic_data, NULL, 0, 1, 0);
     tc_mesh *m = tmesh_build(&g);
     tc_recon *rec = m ? make(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, 0, TC_TANGENTS_ESTIMATE) : NULL;
     if (rec) {
-        double e = reproduction_error(rec, quadratic_f, 500, &r, 1);
+        double e = tri_reproduction_error(rec, quadratic_data, 500, &r, 1);
         CHECK_MSG(e <= 1e-10, "quadratic fit should make the estimate exact, error %.3g", e);
     }
     tc_recon_free(rec);

@@ -395,48 +395,6 @@ TEST(ps_evaluation_picks_the_containing_piece) {
 
 /* ---- reproduction and order ---- */
 
-static void linear_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
-    (void)ctx;
-    g[0] = 0.7 - 0.2 * ch;
-    g[1] = -1.3 + 0.5 * ch;
-    *v = 2.0 + ch + g[0] * x + g[1] * y;
-}
-
-static void quadratic_f(const void *ctx, double x, double y, int ch, double *v, double g[2]) {
-    (void)ctx;
-    double a = 0.9 + 0.3 * ch;
-    *v = 1.0 + 0.4 * x - 0.3 * y + a * x * x - 1.1 * x * y + 0.6 * y * y;
-    g[0] = 0.4 + 2 * a * x - 1.1 * y;
-    g[1] = -0.3 - 1.1 * x + 1.2 * y;
-}
-
-/* Worst relative error of value and gradient against f at random points of random triangles. */
-static double reproduction_error(const tc_recon *rec, tfunc f, int npts, trng *r) {
-    const tc_mesh *m = tc_recon_mesh(rec);
-    const double *xy = tc_mesh_xy(m);
-    const int32_t *tri = tc_mesh_triangles(m);
-    int nc = tc_mesh_channel_count(m);
-    double worst = 0, vs, gs;
-    recon_scales(rec, &vs, &gs);
-    for (int i = 0; i < npts; i++) {
-        int32_t t = trng_int(r, tc_mesh_triangle_count(m));
-        double a = trng_uniform(r), b = trng_uniform(r);
-        if (a + b > 1) a = 1 - a, b = 1 - b;
-        const double *p0 = xy + 2 * tri[3 * t], *p1 = xy + 2 * tri[3 * t + 1], *p2 = xy + 2 * tri[3 * t + 2];
-        double x = p0[0] + a * (p1[0] - p0[0]) + b * (p2[0] - p0[0]);
-        double y = p0[1] + a * (p1[1] - p0[1]) + b * (p2[1] - p0[1]);
-        double val[TC_MAX_CHANNELS], grad[2 * TC_MAX_CHANNELS];
-        tc_eval_triangle(rec, t, x, y, val, grad);
-        for (int ch = 0; ch < nc; ch++) {
-            double fv, fg[2];
-            f(NULL, x, y, ch, &fv, fg);
-            worst = fmax(worst, fabs(val[ch] - fv) / vs);
-            worst = fmax(worst, hypot(grad[2 * ch] - fg[0], grad[2 * ch + 1] - fg[1]) / gs);
-        }
-    }
-    return worst;
-}
-
 /* Quadratics with exact gradients, on flagged meshes too (C-1 sides each get
  * the same exact planes); and with estimated tangents (a quadratic fit). */
 TEST(ps_quadratic_reproduced) {
@@ -446,10 +404,10 @@ TEST(ps_quadratic_reproduced) {
     for (int trial = 0; trial < 4; trial++) {
         tmesh g;
         random_flagged_mesh(&g, &r, trial % 2, 12);
-        tmesh_sample(&g, 2, quadratic_f, NULL, 1, 0, 0);
+        tmesh_sample(&g, 2, quadratic_data, NULL, 1, 0, 0);
         tc_mesh *m = tmesh_build(&g);
         tc_recon *rec = m ? ps_make(m, TC_TANGENTS_GIVEN, NULL) : NULL;
-        double e = rec ? reproduction_error(rec, quadratic_f, 500, &r) : INFINITY;
+        double e = rec ? tri_reproduction_error(rec, quadratic_data, 500, &r, 1) : INFINITY;
         CHECK_MSG(e <= 1e-12, "trial %d: quadratic off by %.3g", trial, e);
         worst = fmax(worst, e);
         tc_recon_free(rec);
@@ -458,10 +416,10 @@ TEST(ps_quadratic_reproduced) {
     }
     tmesh g;
     tmesh_grid(&g, 12, 12, 0.25, -1, &r);
-    tmesh_sample(&g, 1, quadratic_f, NULL, 0, 1, 0);
+    tmesh_sample(&g, 1, quadratic_data, NULL, 0, 1, 0);
     tc_mesh *m = tmesh_build(&g);
     tc_recon *rec = m ? ps_make(m, TC_TANGENTS_ESTIMATE, NULL) : NULL;
-    est = rec ? reproduction_error(rec, quadratic_f, 500, &r) : INFINITY;
+    est = rec ? tri_reproduction_error(rec, quadratic_data, 500, &r, 1) : INFINITY;
     CHECK_MSG(est <= 1e-10, "quadratic with estimated tangents off by %.3g", est);
     tc_recon_free(rec);
     tc_mesh_free(m);
@@ -476,11 +434,11 @@ TEST(ps_linear_reproduced_with_any_tangents) {
     for (int trial = 0; trial < 4; trial++) {
         tmesh g;
         random_flagged_mesh(&g, &r, trial % 2, 12);
-        tmesh_sample(&g, 2, linear_f, NULL, 1, 1, 0);
+        tmesh_sample(&g, 2, linear_data, NULL, 1, 1, 0);
         tc_mesh *m = tmesh_build(&g);
         for (int ti = 0; m && ti < 4; ti++) {
             tc_recon *rec = ps_make(m, (tc_tangents)ti, NULL);
-            double e = rec ? reproduction_error(rec, linear_f, 300, &r) : INFINITY;
+            double e = rec ? tri_reproduction_error(rec, linear_data, 300, &r, 1) : INFINITY;
             CHECK_MSG(e <= 1e-12, "tangents %s: linear off by %.3g", tc_tangents_name((tc_tangents)ti), e);
             worst = fmax(worst, e);
             tc_recon_free(rec);
@@ -642,7 +600,7 @@ TEST(ps_cm1_sides_reconstructed_on_their_own) {
     tmesh_grid(&g, 12, 12, 0.3, -1, &r);
     for (int i = 0; i <= 12; i++) row[i] = tmesh_gv(12, i, 4);
     CHECK(tmesh_add_line(&g, TC_CM1, row, 13) == 0);
-    tmesh_sample(&g, 2, quadratic_f, NULL, 1, 0, 0);
+    tmesh_sample(&g, 2, quadratic_data, NULL, 1, 0, 0);
     second_quadratic_above(&g, 4.0 / 12);
     tc_mesh *m = tmesh_build(&g);
     tc_recon *rec = m ? ps_make(m, TC_TANGENTS_GIVEN, NULL) : NULL;
@@ -657,7 +615,7 @@ TEST(ps_cm1_sides_reconstructed_on_their_own) {
         tc_eval_triangle(rec, t, x, y, val, grad);
         for (int ch = 0; ch < 2; ch++) {
             double fv, fg[2];
-            (above_row(&g, t, 4.0 / 12) ? quadratic2_f : quadratic_f)(NULL, x, y, ch, &fv, fg);
+            (above_row(&g, t, 4.0 / 12) ? quadratic2_f : quadratic_data)(NULL, x, y, ch, &fv, fg);
             worst = fmax(worst, fabs(val[ch] - fv) / vs);
             worst = fmax(worst, hypot(grad[2 * ch] - fg[0], grad[2 * ch + 1] - fg[1]) / gs);
         }
