@@ -42,7 +42,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests", "pylib"))
-from daemonio import first_line  # noqa: E402
+from tochertest import LOCK, SAN_RE, check, finish, first_line, say, tally  # noqa: E402
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
 if not os.path.isabs(BUILD) and not os.path.isdir(BUILD):
     BUILD = os.path.join(ROOT, BUILD)
@@ -54,29 +54,6 @@ EX = os.path.join(ROOT, "api", "examples")
 TMP = tempfile.mkdtemp(prefix="tocher-endpoints.")
 T_START = time.time()
 
-# ---- reporting ------------------------------------------------------------------------
-
-_lock = threading.Lock()
-_count = {"pass": 0, "fail": 0}
-
-
-def say(line):
-    with _lock:
-        print(line, flush=True)
-
-
-def check(name, ok, detail=""):
-    with _lock:
-        _count["pass" if ok else "fail"] += 1
-        print(("ok   %s" % name) if ok else ("FAIL %s: %s" % (name, detail)), flush=True)
-    return ok
-
-
-def finish():
-    print("%d passed, %d failed" % (_count["pass"], _count["fail"]), flush=True)
-    sys.exit(1 if _count["fail"] else 0)
-
-
 try:
     import numpy as np
     import OpenImageIO as oiio
@@ -87,7 +64,6 @@ except ImportError as e:  # the image checks cannot run without them
 # ---- daemons --------------------------------------------------------------------------
 
 DAEMONS = []
-SAN_RE = re.compile(r"AddressSanitizer|LeakSanitizer|runtime error:|UndefinedBehaviorSanitizer")
 LOG_RE = re.compile(r"^\S+ \S+ (\d{3}|-) \d+ [0-9.]+ms( \(.*\))?$")
 
 
@@ -163,10 +139,8 @@ for _sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
 
 
 def _watchdog():
-    say("FAIL watchdog: the suite ran past its time limit; killing the daemons")
-    with _lock:
-        _count["fail"] += 1
-        print("%d passed, %d failed" % (_count["pass"], _count["fail"]), flush=True)
+    check("watchdog", False, "the suite ran past its time limit; killing the daemons")
+    say(tally())
     _kill_all()
     os._exit(1)
 
@@ -239,7 +213,7 @@ def audit(label, resp, api_json=False):
                 tproblem = "%s: timings %s differ from Server-Timing %s" % (label, vals[:5], [st[p] for p in PHASES])
             elif abs(sum(float(v) for v in vals[:5]) - float(vals[5])) > 0.004:
                 tproblem = "%s: timings total %s is not the sum of %s" % (label, vals[5], vals[:5])
-    with _lock:
+    with LOCK:
         AUDIT["n"] += 1
         AUDIT["server_timing"] += problems
         if api_json:
@@ -254,7 +228,7 @@ def request(d, method, path, body=None, headers=None, timeout=120):
     conn = http.client.HTTPConnection("127.0.0.1", d.port, timeout=timeout)
     t0 = time.time()
     try:
-        with _lock:
+        with LOCK:
             d.sent += 1
         conn.request(method, path, body=body, headers=headers or {})
         r = conn.getresponse()
@@ -279,7 +253,7 @@ def raw_exchange(d, data, method="POST", timeout=10):
     """Sends bytes as they are on a new connection and reads one response."""
     s = socket.create_connection(("127.0.0.1", d.port), timeout=timeout)
     t0 = time.time()
-    with _lock:
+    with LOCK:
         d.sent += 1
     try:
         try:
@@ -397,7 +371,7 @@ def decode(data, fmt, w=None, h=None, nc=None):
     """Pixels [h][w][channels] in the stored type (raw: float32, no alpha)."""
     if fmt == "raw":
         return Decoded(np.frombuffer(data, dtype="<f4").reshape(h, w, nc), None, -1, "float")
-    with _lock:
+    with LOCK:
         _seq[0] += 1
         n = _seq[0]
     ext = {"png": "png", "png16": "png", "exr": "exr", "exr-half": "exr", "tiff": "tif"}[fmt]
@@ -703,7 +677,7 @@ def section_basics(D):
 
 
 def audit_report(label):
-    with _lock:
+    with LOCK:
         st, tm, n = list(AUDIT["server_timing"]), [t for t in AUDIT["timings"]], AUDIT["n"]
     check("%s: every response (%d) has Server-Timing with the five phases" % (label, n), not st,
           "%d without: %s" % (len(st), st[:3]))
@@ -1158,7 +1132,7 @@ def load_worker(D, items, tile, k, n, out):
         try:
             if conn is None or not persistent:
                 conn = http.client.HTTPConnection("127.0.0.1", D.port, timeout=60)
-            with _lock:
+            with LOCK:
                 D.sent += 1
             conn.request(item.method, item.path, body=item.body, headers=item.headers)
             r = conn.getresponse()
@@ -1261,7 +1235,7 @@ def section_shutdown():
     def slow():
         conn = http.client.HTTPConnection("127.0.0.1", G.port, timeout=120)
         try:
-            with _lock:
+            with LOCK:
                 G.sent += 1
             conn.request("POST", "/v1/render", json.dumps(with_(SHADOW, viewport=vp, format="exr")).encode(), JSON_H)
             sent.set()

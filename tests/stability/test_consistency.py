@@ -24,7 +24,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests", "pylib"))
-from daemonio import first_line  # noqa: E402
+from tochertest import SAN_RE, check, finish, first_line  # noqa: E402
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
 if not os.path.isabs(BUILD) and not os.path.isdir(BUILD):
     BUILD = os.path.join(ROOT, BUILD)
@@ -32,20 +32,6 @@ BUILD = os.path.abspath(BUILD)
 TOCHER, TOCHERD = os.path.join(BUILD, "tocher"), os.path.join(BUILD, "tocherd")
 TMP = tempfile.mkdtemp(prefix="tocher-consistency.")
 atexit.register(shutil.rmtree, TMP, True)
-COUNT = {"pass": 0, "fail": 0}
-SAN_RE = re.compile(r"AddressSanitizer|LeakSanitizer|runtime error:|UndefinedBehaviorSanitizer")
-
-
-def check(name, ok, detail=""):
-    COUNT["pass" if ok else "fail"] += 1
-    print(("ok   %s" % name) if ok else ("FAIL %s: %s" % (name, detail)), flush=True)
-    return ok
-
-
-def finish():
-    print("%d passed, %d failed" % (COUNT["pass"], COUNT["fail"]), flush=True)
-    sys.exit(1 if COUNT["fail"] else 0)
-
 
 # ---- the daemon ---------------------------------------------------------------------------
 
