@@ -149,6 +149,9 @@ typedef struct {
 void stab_sample(const tc_recon *r, int per_tri, uint64_t seed, stab_range *s);
 /* (how far the values leave the data range) / (data range). */
 double stab_overshoot(const stab_range *s);
+/* The measurement most cases take: continuity (c) and a dense sample (s, per_tri
+ * random points per triangle). 1 if the coefficients and every sample are finite. */
+int stab_measure(const tc_recon *r, int per_tri, uint64_t seed, stab_cont *c, stab_range *s);
 /* Largest |given gradient| of the description (gradients, normals, corner gradients). */
 double stab_given_gradient(const tc_mesh_desc *d);
 

@@ -343,3 +343,9 @@ double stab_given_gradient(const tc_mesh_desc *d) {
     }
     return w;
 }
+
+int stab_measure(const tc_recon *r, int per_tri, uint64_t seed, stab_cont *c, stab_range *s) {
+    stab_continuity(r, c);
+    stab_sample(r, per_tri, seed, s);
+    return stab_recon_finite(r) && !s->nonfinite;
+}

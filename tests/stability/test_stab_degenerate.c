@@ -191,9 +191,7 @@ static void run_one(const dcase *dc, const tc_mesh_desc *d, int v, tc_tangents s
     } else {
         stab_cont c;
         stab_range r;
-        stab_continuity(x.r, &c);
-        stab_sample(x.r, 20, 1, &r);
-        int fin = stab_recon_finite(x.r) && !r.nonfinite;
+        int fin = stab_measure(x.r, 20, 1, &c, &r);
         stab_acc_fig(&f->c0[v], fin ? fmax(c.corner, c.c0) : INFINITY, where);
         if (stab_has_planes(v) && v != STAB_HERMITE)
             stab_acc_fig(&f->c1[v], fin ? stab_c1_over_bound(&c) : INFINITY, where);

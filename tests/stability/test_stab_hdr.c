@@ -50,9 +50,7 @@ static void measure(const tc_mesh_desc *d, int v, tc_tangents src, range_figs *f
     }
     stab_cont c;
     stab_range r;
-    stab_continuity(x.r, &c);
-    stab_sample(x.r, 30, 9, &r);
-    int fin = stab_recon_finite(x.r) && !r.nonfinite;
+    int fin = stab_measure(x.r, 30, 9, &c, &r);
     stab_acc_fig(&f->c0[v], fin ? fmax(c.corner, c.c0) : INFINITY, where);
     if (stab_has_planes(v) && v != STAB_HERMITE)
         stab_acc_fig(&f->c1[v], fin ? fmax(c.c1, fmax(c.vertex, c.internal)) : INFINITY, where);

@@ -132,9 +132,7 @@ static void measure(const tc_mesh_desc *d, int v, tc_tangents src, double aspect
     } else {
         stab_cont c;
         stab_range r;
-        stab_continuity(x.r, &c);
-        stab_sample(x.r, 30, 5, &r);
-        int fin = stab_recon_finite(x.r);
+        int fin = stab_measure(x.r, 30, 5, &c, &r);
         double r0 = fin ? fmax(c.corner, c.c0) : INFINITY, r1 = fin ? fmax(c.c1, fmax(c.vertex, c.internal)) : INFINITY;
         char w1[96];
         const char *which = c.internal >= fmax(c.c1, c.vertex) ? "internal" : c.c1 >= c.vertex ? "edge" : "vertex";
