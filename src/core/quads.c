@@ -1,5 +1,6 @@
 /* quads.c — quad meshes: each quad checked (indices, distinct corners, strict
  * convexity, repeats) and split along its diagonal a-c into two triangles. */
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -13,6 +14,19 @@ void tc__elem_path(const struct tc_mesh *m, int32_t t, char *buf, size_t n) {
 
 const char *tc__elem_word(const struct tc_mesh *m) { return m->nq ? "quad" : "triangle"; }
 
+/* An error at "quads[q]". The path is formatted here, on failure only: the
+ * checks run for every quad of a large mesh. */
+static int quad_error(tc_diags *dg, int32_t q, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int quad_error(tc_diags *dg, int32_t q, const char *fmt, ...) {
+    char path[48], msg[sizeof dg->items->message];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    snprintf(path, sizeof path, "quads[%d]", (int)q);
+    return tc_diags_add(dg, TC_SEV_ERROR, path, "%s", msg);
+}
+
 static int check_indices(const tc_mesh_desc *d, int32_t q, tc_diags *dg) {
     const int32_t *v = d->quads + 4 * (size_t)q;
     char path[48];
@@ -22,12 +36,10 @@ static int check_indices(const tc_mesh_desc *d, int32_t q, tc_diags *dg) {
             return tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index %d out of range (%d vertices)", (int)v[k],
                                 (int)d->nverts);
         }
-    snprintf(path, sizeof path, "quads[%d]", (int)q);
     for (int i = 0; i < 4; i++)
         for (int j = i + 1; j < 4; j++)
             if (v[i] == v[j])
-                return tc_diags_add(dg, TC_SEV_ERROR, path,
-                                    "degenerate quad: a vertex appears twice in [%d, %d, %d, %d]", (int)v[0],
+                return quad_error(dg, q, "degenerate quad: a vertex appears twice in [%d, %d, %d, %d]", (int)v[0],
                                     (int)v[1], (int)v[2], (int)v[3]);
     return TC_OK;
 }
@@ -41,32 +53,30 @@ static int check_indices(const tc_mesh_desc *d, int32_t q, tc_diags *dg) {
 static int check_shape(const tc_mesh_desc *d, int32_t q, tc_diags *dg) {
     const int32_t *v = d->quads + 4 * (size_t)q;
     const double *p[4];
-    char path[48];
     int npos = 0, sign[4];
     for (int k = 0; k < 4; k++) p[k] = d->xy + 2 * (size_t)v[k];
-    snprintf(path, sizeof path, "quads[%d]", (int)q);
     for (int k = 0; k < 4; k++) {
         const double *prev = p[(k + 3) % 4], *next = p[(k + 1) % 4];
         double ein[2], eout[2];
         tc__sub(ein, p[k], prev);
         tc__sub(eout, next, p[k]);
         if (!tc__nonzero_area(p[k], next, prev))
-            return tc_diags_add(dg, TC_SEV_ERROR, path,
+            return quad_error(dg, q,
                                 "degenerate quad: its edges at vertex %d (corner %d) are collinear or coincide", (int)v[k],
                                 k);
         sign[k] = tc__cross(ein, eout) > 0;
         npos += sign[k];
     }
     if (npos == 2)
-        return tc_diags_add(dg, TC_SEV_ERROR, path,
+        return quad_error(dg, q,
                             "non-convex quad: its sides cross; give the corners [%d, %d, %d, %d] in order around it",
                             (int)v[0], (int)v[1], (int)v[2], (int)v[3]);
     for (int k = 0; k < 4 && npos != 0 && npos != 4; k++)
         if (sign[k] != (npos > 2))
-            return tc_diags_add(dg, TC_SEV_ERROR, path,
+            return quad_error(dg, q,
                                 "non-convex quad: it turns the other way at vertex %d (corner %d)", (int)v[k], k);
     if (!tc__nonzero_area(p[0], p[1], p[2]) || !tc__nonzero_area(p[0], p[2], p[3]))
-        return tc_diags_add(dg, TC_SEV_ERROR, path,
+        return quad_error(dg, q,
                             "degenerate quad: a triangle of its split along the diagonal [%d, %d] has zero area",
                             (int)v[0], (int)v[2]);
     return TC_OK;
