@@ -203,6 +203,13 @@ typedef enum {
                           * wedges "literal") */
 } tc_average;
 
+/* Whether the cubic and quadratic methods may leave the range of their data. */
+typedef enum {
+    TC_RANGE_LOCAL = 0, /* each triangle stays within [min, max] of its own corner values */
+    TC_RANGE_POSITIVE,  /* never below 0 where a triangle's corner values are all >= 0 */
+    TC_RANGE_FREE       /* the unrestricted interpolant (the paper's; as matplotlib and scipy) */
+} tc_range;
+
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;
@@ -210,6 +217,7 @@ typedef struct {
     tc_tangents tangents;
     tc_twist twist;
     tc_average average;
+    tc_range range;
 } tc_options;
 
 void tc_options_default(tc_options *o);

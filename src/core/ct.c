@@ -15,10 +15,12 @@ const char *const tc__ct_labels[TC_CT_ORDINATES] = {
     "cvv", "cww", "ccu", "ccv", "ccw", "cuv", "cuw", "cvw", "ccc"};
 
 /* Corners are 0 = u, 1 = v, 2 = w; edge k joins corners k and k+1. */
-static const int IIJ[3][3] = {{-1, CT_UUV, CT_UUW}, {CT_UVV, -1, CT_VVW}, {CT_UWW, CT_VWW, -1}};
+const int tc__ct_iij[3][3] = {{-1, CT_UUV, CT_UUW}, {CT_UVV, -1, CT_VVW}, {CT_UWW, CT_VWW, -1}};
+const int tc__ct_cij[3] = {CT_CUV, CT_CVW, CT_CUW};
+#define IIJ tc__ct_iij
+#define CIJ tc__ct_cij
 static const int CII[3] = {CT_CUU, CT_CVV, CT_CWW};
 static const int CCI[3] = {CT_CCU, CT_CCV, CT_CCW};
-static const int CIJ[3] = {CT_CUV, CT_CVW, CT_CUW};
 
 typedef struct {
     double r[3][2]; /* corners relative to corner 0 */
@@ -179,10 +181,14 @@ static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef
                 return tc_diags_add(dg, TC_SEV_ERROR, path, "the cross-boundary ordinate of edge %d overflows", k);
             }
         }
-        for (int i = 0; i < 3; i++) o[CCI[i]] = mean3(o[CII[i]], o[CIJ[i]], o[CIJ[(i + 2) % 3]]);
-        o[CT_CCC] = mean3(o[CT_CCU], o[CT_CCV], o[CT_CCW]);
+        tc__ct_close(o);
     }
     return TC_OK;
+}
+
+void tc__ct_close(double *o) {
+    for (int i = 0; i < 3; i++) o[CCI[i]] = mean3(o[CII[i]], o[CIJ[i]], o[CIJ[(i + 2) % 3]]);
+    o[CT_CCC] = mean3(o[CT_CCU], o[CT_CCV], o[CT_CCW]);
 }
 
 int tc__ct_ordinates(const tc_ct_input *x, double *coef, tc_diags *dg) {

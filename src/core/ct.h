@@ -15,6 +15,15 @@ enum {
 
 extern const char *const tc__ct_labels[TC_CT_ORDINATES];
 
+/* tc__ct_iij[i][j]: the edge ordinate next to corner i towards corner j;
+ * tc__ct_cij[k]: the cross-boundary ordinate of edge k (corners k, k+1). */
+extern const int tc__ct_iij[3][3];
+extern const int tc__ct_cij[3];
+
+/* Recomputes the ordinates the cross-boundary ones determine (ccu ccv ccw
+ * ccc: the C1 conditions across the internal edges) after they changed. */
+void tc__ct_close(double *o);
+
 typedef struct {
     const struct tc_mesh *m;
     const tc_wedge_set *ws;
@@ -28,6 +37,11 @@ typedef struct {
 
 /* Fills coef[nt][nc][19]. Fails only for salesin+literal where Project is singular. */
 int tc__ct_ordinates(const tc_ct_input *in, double *coef, tc_diags *dg);
+
+/* ct_range.c: as tc__ct_ordinates, but first the wedge planes in cg (the
+ * array in->cg points to) are limited and afterwards the cross-boundary
+ * ordinates, so every ordinate stays inside the bound of `mode` (range.h). */
+int tc__ct_ordinates_ranged(const tc_ct_input *in, tc_range mode, double *cg, double *coef, tc_diags *dg);
 
 /* Value and gradient of the piece with ordinates o at `at`. grad may be NULL. */
 void tc__ct_eval(const double *o, const tc_at *at, double *value, double *grad);

@@ -221,17 +221,17 @@ static void wedge_hessian(const struct tc_mesh *m, const tc_wedge_set *ws, const
 typedef struct {
     const struct tc_mesh *m;
     const double *cg;  /* [3nt][nc][2] corner planes */
-    tc_wedge_set ws;   /* the wedges the planes were built on (estimate only) */
-    double *H;         /* [nw][nc][3], or NULL */
+    tc_wedge_set ws;   /* the wedges the planes were built on */
+    double *H;         /* [nw][nc][3] estimated, or NULL */
+    double *keep;      /* [nw][nc] the share of x_s' H x_t kept (range limiter), or NULL: all */
 } twists;
 
 static int twists_build(const struct tc_recon *r, twists *tw) {
     const struct tc_mesh *m = r->m;
     memset(tw, 0, sizeof *tw);
     tw->m = m, tw->cg = r->cgrad;
-    if (r->opt.twist != TC_TWIST_ESTIMATE) return TC_OK;
     int st = tc__wedges_build(m, TC_HONOR_ALL, &tw->ws);
-    if (st != TC_OK) return st;
+    if (st != TC_OK || r->opt.twist != TC_TWIST_ESTIMATE) return st;
     tw->H = tc__malloc((size_t)tw->ws.nw * m->nc, 3 * sizeof *tw->H);
     if (!tw->H) return TC_ENOMEM;
     for (int32_t w = 0; w < tw->ws.nw; w++)
@@ -242,6 +242,7 @@ static int twists_build(const struct tc_recon *r, twists *tw) {
 static void twists_free(twists *tw) {
     tc__wedges_free(&tw->ws);
     free(tw->H);
+    free(tw->keep);
 }
 
 /* The second derivatives at corner c (a corner id) in channel ch, or NULL (H = 0). */
@@ -285,10 +286,13 @@ static double form(const double H[3], const double u[2], const double w[2]) {
 
 /* f_st = x_s' H x_t + g . x_st: the cross derivative of f(x(s, t)), exact for
  * exact H and g; with H = 0 only the map's own curvature is kept, so linear
- * data stay exact on every quad. */
-static double twist(const quad_geom *G, int k, const double g[2], const double *H) {
-    double t = tc__dot(g, G->E);
-    return H ? t + form(H, G->xs[k], G->xt[k]) : t;
+ * data stay exact on every quad. The range limiter keeps a share of the
+ * second-order part per wedge (twists_keep). */
+static double twist_of(const twists *tw, const quad_geom *G, int k, int ch, const double g[2]) {
+    int32_t c = G->corner[k];
+    const double *H = hessian_at(tw, c, ch);
+    double t = tc__dot(g, G->E), keep = tw->keep ? tw->keep[(size_t)tw->ws.of_corner[c] * tw->m->nc + ch] : 1;
+    return H ? t + keep * form(H, G->xs[k], G->xt[k]) : t;
 }
 
 /* The 16 ordinates of channel ch: per corner, f, f + f_s/3, f + f_t/3 and the
@@ -300,7 +304,7 @@ static void patch(const twists *tw, const quad_geom *G, int ch, double *o) {
         int32_t c = G->corner[k];
         const double *g = tw->cg + ((size_t)c * nc + ch) * 2;
         double f = m->cz[(size_t)c * nc + ch], fs = tc__dot(g, G->xs[k]), ft = tc__dot(g, G->xt[k]);
-        double fst = twist(G, k, g, hessian_at(tw, c, ch));
+        double fst = twist_of(tw, G, k, ch, g);
         int i = 3 * KS[k], j = 3 * KT[k], si = KS[k] ? -1 : 1, sj = KT[k] ? -1 : 1;
         o[4 * i + j] = f;
         o[4 * (i + si) + j] = f + si * fs / 3;
@@ -386,6 +390,78 @@ static void limit_twists(twists *tw) {
     free(scale);
 }
 
+/* ---- the range limiter ---- */
+
+/* Quad corner k's steps into the square: +1 from s = 0 (t = 0), -1 from 1. */
+static void corner_signs(int k, double *si, double *sj) {
+    *si = KS[k] ? -1 : 1;
+    *sj = KT[k] ? -1 : 1;
+}
+
+/* The plane of a quad corner sets three ordinates: f + si f_s/3, f + sj f_t/3
+ * and the inner one's plane part, f + (si f_s + sj f_t)/3 + si sj g.x_st/9. */
+static int hermite_dirs(const void *ctx, int32_t c, double d[TC_PLANE_DIRS_MAX][2]) {
+    const struct tc_mesh *m = ctx;
+    int32_t t = c / 3;
+    int k = tc__quad_corner_of(t, c % 3);
+    quad_geom G;
+    quad_geometry(m, t / 2, &G);
+    double si, sj;
+    corner_signs(k, &si, &sj);
+    for (int i = 0; i < 2; i++) {
+        d[0][i] = si * G.xs[k][i] / 3;
+        d[1][i] = sj * G.xt[k][i] / 3;
+        d[2][i] = d[0][i] + d[1][i] + si * sj * G.E[i] / 9;
+    }
+    return 3;
+}
+
+/* The inner ordinate of quad corner k is its plane part (inside the bound
+ * once the planes are limited) plus si sj keep x_s'Hx_t / 9: per wedge and
+ * channel, the largest keep in [0, 1] that holds every inner ordinate in. */
+static void keep_pass(twists *tw, const tc_bounds *b, double *keep) {
+    const struct tc_mesh *m = tw->m;
+    int nc = m->nc;
+    for (int32_t q = 0; q < m->nq; q++) {
+        quad_geom G;
+        quad_geometry(m, q, &G);
+        for (int k = 0; k < 4; k++)
+            for (int ch = 0; ch < nc; ch++) {
+                int32_t c = G.corner[k];
+                const double *H = hessian_at(tw, c, ch), *g = tw->cg + ((size_t)c * nc + ch) * 2;
+                if (!H) continue;
+                double si, sj, f = m->cz[(size_t)c * nc + ch];
+                corner_signs(k, &si, &sj);
+                double base = f + (si * tc__dot(g, G.xs[k]) + sj * tc__dot(g, G.xt[k])) / 3 + si * sj * tc__dot(g, G.E) / 9;
+                double part = si * sj * form(H, G.xs[k], G.xt[k]) / 9;
+                size_t i = (size_t)(2 * q) * nc + ch, w = (size_t)tw->ws.of_corner[c] * nc + ch;
+                double room = part > 0 ? b->hi[i] - base : b->lo[i] - base; /* same sign as part, or 0 */
+                if (tc__outside(base + part, b->lo[i], b->hi[i], b->tol[ch]) > 0)
+                    keep[w] = fmin(keep[w], fmax(0, room / part));
+            }
+    }
+}
+
+static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
+    size_t n = (size_t)tw->ws.nw * m->nc;
+    tc_bounds b;
+    int st = tc__bounds_build(m, m->cz, r->opt.range, 1, &b);
+    tw->keep = st == TC_OK ? tc__malloc(n, sizeof *tw->keep) : NULL;
+    if (st == TC_OK && !tw->keep) st = TC_ENOMEM;
+    if (st == TC_OK) {
+        for (size_t i = 0; i < n; i++) tw->keep[i] = 1;
+        keep_pass(tw, &b, tw->keep);
+        tc_range_stats rs;
+        tc__range_stats_init(&rs);
+        for (size_t i = 0; i < n; i++)
+            if (tw->keep[i] < 1) tc__range_note(&rs.twists, 1 - tw->keep[i], tw->ws.w[i / m->nc].v, -1);
+        tc__range_warn(m, &rs, r->opt.range, dg);
+    }
+    tc__bounds_free(&b);
+    return st;
+}
+
 /* Tangent planes as for clough-tocher (given / midpoints / estimate, one per
  * wedge, wedges split at every flagged edge): the values along a patch edge
  * depend only on its ends' values and slopes along it, which the coupled
@@ -398,11 +474,13 @@ int tc__hermite_build(struct tc_recon *r, tc_diags *dg) {
     r->ncoef = TC_HERMITE_COEFS, r->labels = labels, r->eval = tc__hermite_eval;
     r->coef = tc__malloc((size_t)m->nt * m->nc, TC_HERMITE_COEFS * sizeof *r->coef);
     if (!r->coef) return TC_ENOMEM;
-    int st = tc__recon_planes(r, TC_HONOR_ALL, dg);
+    tc_plane_use use = {hermite_dirs, m, 1};
+    int st = tc__recon_planes(r, TC_HONOR_ALL, &use, dg);
     if (st != TC_OK) return st;
     twists tw;
     st = twists_build(r, &tw);
     if (st == TC_OK && tw.H) limit_twists(&tw);
+    if (st == TC_OK && r->opt.range != TC_RANGE_FREE) st = limit_twists_to_range(r, &tw, dg);
     if (st == TC_OK) fill(&tw, r->coef);
     twists_free(&tw);
     return st;

@@ -63,4 +63,5 @@ void tc_options_default(tc_options *o) {
     o->tangents = TC_TANGENTS_AUTO;
     o->twist = TC_TWIST_ESTIMATE;
     o->average = TC_AVERAGE_AREA;
+    o->range = TC_RANGE_LOCAL;
 }

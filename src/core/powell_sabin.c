@@ -276,19 +276,40 @@ static void warn_c0(const struct tc_mesh *m, tc_diags *dg) {
                      "powell-sabin cannot honour C0 flags; they are treated as C1 (%d edges)", (int)n);
 }
 
+/* The range limiter's view of corner i of triangle t: its plane sets the
+ * ordinates half way to the split points of its two edges and to Z (the rest
+ * are affine combinations of these, with weights in [0, 1]). */
+static int ps_dirs(const void *ctx, int32_t c, double d[TC_PLANE_DIRS_MAX][2]) {
+    const ps_geom *g = (const ps_geom *)ctx + c / 3;
+    int i = c % 3, j = (i + 1) % 3, h = (i + 2) % 3;
+    double a = g->alpha[i], b = 1 - g->alpha[h];
+    d[0][0] = 0.5 * a * (g->r[j][0] - g->r[i][0]), d[0][1] = 0.5 * a * (g->r[j][1] - g->r[i][1]);
+    d[1][0] = 0.5 * b * (g->r[h][0] - g->r[i][0]), d[1][1] = 0.5 * b * (g->r[h][1] - g->r[i][1]);
+    d[2][0] = d[2][1] = 0;
+    for (int k = 0; k < 3; k++) {
+        d[2][0] += 0.5 * g->zeta[k] * (g->r[k][0] - g->r[i][0]);
+        d[2][1] += 0.5 * g->zeta[k] * (g->r[k][1] - g->r[i][1]);
+    }
+    return 3;
+}
+
 int tc__ps_build(struct tc_recon *r, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
     r->ncoef = TC_PS_COEFS, r->labels = ps_labels, r->eval = ps_eval;
+    ps_geom *geo = tc__malloc((size_t)m->nt, sizeof *geo);
+    if (!geo) return TC_ENOMEM;
+    int st = TC_OK;
+    for (int32_t t = 0; t < m->nt && st == TC_OK; t++)
+        if (geometry(m, t, &geo[t], dg) != TC_OK) st = TC_EINVAL;
     /* Wedges cut by C-1 edges and the boundary only; corner values stay per side. */
-    int st = tc__recon_planes(r, TC_HONOR_CM1, dg);
-    if (st != TC_OK) return st;
-    r->coef = tc__malloc((size_t)m->nt * m->nc, TC_PS_COEFS * sizeof *r->coef);
-    if (!r->coef) return TC_ENOMEM;
-    for (int32_t t = 0; t < m->nt; t++) {
-        ps_geom g;
-        if (geometry(m, t, &g, dg) != TC_OK) return TC_EINVAL;
-        triangle(r, t, &g);
+    tc_plane_use use = {ps_dirs, geo, 0};
+    if (st == TC_OK) st = tc__recon_planes(r, TC_HONOR_CM1, &use, dg);
+    if (st == TC_OK) {
+        r->coef = tc__malloc((size_t)m->nt * m->nc, TC_PS_COEFS * sizeof *r->coef);
+        if (!r->coef) st = TC_ENOMEM;
     }
-    warn_c0(m, dg); /* last, so an error above stays the first finding */
-    return TC_OK;
+    for (int32_t t = 0; t < m->nt && st == TC_OK; t++) triangle(r, t, &geo[t]);
+    free(geo);
+    if (st == TC_OK) warn_c0(m, dg); /* last, so an error above stays the first finding */
+    return st;
 }

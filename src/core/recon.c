@@ -7,6 +7,7 @@
 
 #include "core/ct.h"
 #include "core/internal.h"
+#include "core/range.h"
 #include "core/recon.h"
 #include "core/tangent.h"
 
@@ -76,10 +77,24 @@ static int ct_planes(struct tc_recon *r, int honor, ct_scratch *s, tc_diags *dg)
     return TC_OK;
 }
 
-int tc__recon_planes(struct tc_recon *r, int honor, tc_diags *dg) {
+/* Limits the planes r->cgrad (range.h) for a method that uses them as `use` says. */
+static int limit_planes(struct tc_recon *r, const ct_scratch *s, const tc_plane_use *use, tc_diags *dg) {
+    const double *cz = s->cz_own ? s->cz_own : r->m->cz;
+    tc_bounds b;
+    tc_range_stats st;
+    tc__range_stats_init(&st);
+    int rc = tc__bounds_build(r->m, cz, r->opt.range, use->per_quad, &b);
+    if (rc == TC_OK) rc = tc__range_planes(r->m, &s->ws, cz, &b, use->dirs, use->ctx, r->cgrad, &st);
+    if (rc == TC_OK) tc__range_warn(r->m, &st, r->opt.range, dg);
+    tc__bounds_free(&b);
+    return rc;
+}
+
+int tc__recon_planes(struct tc_recon *r, int honor, const tc_plane_use *use, tc_diags *dg) {
     ct_scratch s;
     memset(&s, 0, sizeof s);
     int st = ct_planes(r, honor, &s, dg);
+    if (st == TC_OK && use && use->dirs && r->opt.range != TC_RANGE_FREE) st = limit_planes(r, &s, use, dg);
     ct_scratch_free(&s);
     return st;
 }
@@ -93,7 +108,8 @@ static int build_ct(struct tc_recon *r, tc_diags *dg) {
         tc_ct_input x = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->cgrad, s.in,
                          r->opt.cross_boundary, r->opt.wedges,
                          r->opt.wedges == TC_WEDGES_CORRECTED && r->opt.average == TC_AVERAGE_AREA};
-        st = tc__ct_ordinates(&x, r->coef, dg);
+        st = r->opt.range == TC_RANGE_FREE ? tc__ct_ordinates(&x, r->coef, dg)
+                                           : tc__ct_ordinates_ranged(&x, r->opt.range, r->cgrad, r->coef, dg);
     }
     ct_scratch_free(&s);
     return st;
@@ -153,6 +169,18 @@ static int build(struct tc_recon *r, tc_diags *dg) {
     return st == TC_OK ? check_bounded(r, dg) : st;
 }
 
+/* How many of a method's coefficients are Bézier ordinates (the rest, if
+ * any, are geometry); 0 for the methods that cannot leave their data's range. */
+static int ordinate_count(const struct tc_recon *r) {
+    switch (r->opt.method) {
+    case TC_METHOD_CLOUGH_TOCHER:
+    case TC_METHOD_CLOUGH_TOCHER_C1:
+    case TC_METHOD_POWELL_SABIN: return TC_CT_ORDINATES;
+    case TC_METHOD_HERMITE: return 16;
+    default: return 0;
+    }
+}
+
 /* A method that formats "triangles[t]" itself on a quad mesh would name an
  * element the caller never sent: the findings this build added are renamed to
  * "quads[t/2]" (the rest of the path kept), so every path is the request's. */
@@ -175,6 +203,7 @@ int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags
     else tc_options_default(&r->opt);
     int from = diags ? diags->count : 0;
     int st = build(r, diags);
+    if (st == TC_OK && r->opt.range == TC_RANGE_FREE) tc__range_report_free(r, ordinate_count(r), diags);
     quad_paths(m, diags, from);
     if (st != TC_OK) {
         tc_recon_free(r);

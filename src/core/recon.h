@@ -4,6 +4,7 @@
 #define TC_CORE_RECON_H
 
 #include "core/geom.h"
+#include "core/range.h"
 #include "core/wedge.h"
 
 /* Value (and gradient if grad != NULL) of one channel of one triangle's piece
@@ -36,11 +37,21 @@ void tc__linear4_eval(const double *o, const tc_at *at, double *value, double *g
 int tc__ps_build(struct tc_recon *r, tc_diags *dg);
 int tc__hermite_build(struct tc_recon *r, tc_diags *dg);
 
+/* How a method's ordinates depend on its corner planes, for the range
+ * limiter (range.h): the directions per corner, and whether a piece spans a
+ * quad (its bound is the quad's). NULL dirs: the planes are not limited. */
+typedef struct {
+    tc_plane_dirs_fn dirs;
+    const void *ctx;
+    int per_quad;
+} tc_plane_use;
+
 /* recon.c: the cubic methods' tangent-plane pipeline (wedges delimited per
  * `honor`, a TC_HONOR_* of wedge.h -> corner inputs per r->opt.tangents ->
- * wedge planes) for other methods: fills r->cgrad (allocating it). Corner
- * values are the mesh's, so `honor` must not be TC_HONOR_NONE on C-1 data. */
-int tc__recon_planes(struct tc_recon *r, int honor, tc_diags *dg);
+ * wedge planes) for other methods: fills r->cgrad (allocating it), then,
+ * unless r->opt.range is free, limits the planes for `use`. Corner values
+ * are the mesh's, so `honor` must not be TC_HONOR_NONE on C-1 data. */
+int tc__recon_planes(struct tc_recon *r, int honor, const tc_plane_use *use, tc_diags *dg);
 
 /* powell_sabin.c: TC_PS_COEFS coefficients per triangle and channel (layout
  * there), and piece p (0..5) of the 6-split extended to any point, for tests:

@@ -134,14 +134,54 @@ static double straightness_c0c0(const tc_wedge *w) {
     return w->across[0] >= 0 && w->across[1] >= 0 ? straightness(w) : 0;
 }
 
+/* A wedge of (nearly) 180 degrees between the two rays of a straight C0 line
+ * whose other sides belong to two different wedges (more C0 edges, or a C-1
+ * edge, on the line's other side). Its one plane has one slope along the
+ * line, so both neighbours must take that slope for their sides on the line:
+ * coupling each side with its own neighbour would give two (C0 broken). */
+static int on_line(const ctx *x, int32_t wi) {
+    const tc_wedge *w = &x->ws->w[wi];
+    return w->across[0] >= 0 && w->across[1] >= 0 && w->across[0] != w->across[1] &&
+           (w->collinear || side_sin(w) < TC_STRAIGHT_BAND);
+}
+
+/* The plane all the wedges touching line wedge L take their slope along the
+ * line from: the mean of L's and its two neighbours' planes (area-weighted,
+ * or the paper's unit normals), pulled towards the vertex's mean plane by the
+ * straightest of the three. The same whichever of them asks. */
+static void line_plane(const ctx *x, int32_t L, int ch, double g[2]) {
+    const tc_wedge *w = &x->ws->w[L];
+    int32_t three[3] = {L, w->across[0], w->across[1]};
+    double S[3] = {0, 0, 0}, wsum = 0, k = 0;
+    g[0] = g[1] = 0;
+    for (int i = 0; i < 3; i++) {
+        const double *a = avg_of(x, three[i], ch);
+        if (x->by_area) {
+            double wa = x->area[three[i]];
+            g[0] += wa * a[0], g[1] += wa * a[1], wsum += wa;
+        } else {
+            tc__normal_acc(S, a);
+        }
+        if (x->corrected) k = fmax(k, straightness_c0c0(&x->ws->w[three[i]]));
+    }
+    if (x->by_area) g[0] /= wsum, g[1] /= wsum;
+    else tc__normal_to_grad(S, g);
+    const double *v = x->vplane + 2 * ((size_t)L * x->nc + ch);
+    g[0] += k * (v[0] - g[0]);
+    g[1] += k * (v[1] - g[1]);
+}
+
 /* The plane each side of the wedge takes its edge slope from: the coupling
  * plane, pulled towards the vertex's mean plane by the straighter of the two
  * wedges at the edge when that one has two C0 sides. Both wedges compute the
  * same weight and the same planes, so they agree on the edge (C0), and a
- * nearly straight wedge gets side slopes that nearly fit one plane. */
+ * nearly straight wedge gets side slopes that nearly fit one plane. Sides on
+ * a straight line with different wedges beyond take the line's plane. */
 static void side_plane(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
     int32_t o = x->ws->w[wi].across[s];
-    if (o >= 0) {
+    if (o >= 0 && (on_line(x, wi) || on_line(x, o))) {
+        line_plane(x, on_line(x, wi) ? wi : o, ch, g);
+    } else if (o >= 0) {
         coupling(x, wi, s, ch, g);
         double k = x->corrected ? fmax(straightness_c0c0(&x->ws->w[wi]), straightness_c0c0(&x->ws->w[o])) : 0;
         if (k > 0) {
@@ -186,7 +226,8 @@ static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
          * coupled slope along it, the wedge's own cross slope) to the plane above. */
         double t = sn > TC_COLLINEAR_TOL ? log(sn / TC_COLLINEAR_TOL) / log(TC_STRAIGHT_BAND / TC_COLLINEAR_TOL) : 0;
         double gc[2], kink[2];
-        coupling(x, wi, TC_SIDE_A, ch, gc);
+        if (on_line(x, wi)) side_plane(x, wi, TC_SIDE_A, ch, gc);
+        else coupling(x, wi, TC_SIDE_A, ch, gc);
         tc__match_along(own, gc, w->dir[TC_SIDE_A], kink);
         out[0] = t * out[0] + (1 - t) * kink[0];
         out[1] = t * out[1] + (1 - t) * kink[1];

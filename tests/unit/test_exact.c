@@ -15,9 +15,9 @@ static void const_f(const void *ctx, double x, double y, int ch, double *v, doub
     g[0] = g[1] = 0;
 }
 
-static tc_recon *make_avg(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan,
-                          tc_average avg) {
-    tc_options o = {method, cross, wedges, tan, TC_TWIST_ESTIMATE, avg};
+static tc_recon *make_opts(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan,
+                           tc_average avg, tc_range range) {
+    tc_options o = {method, cross, wedges, tan, TC_TWIST_ESTIMATE, avg, range};
     tc_recon *r = NULL;
     tc_diags dg;
     tc_diags_init(&dg);
@@ -28,8 +28,17 @@ static tc_recon *make_avg(const tc_mesh *m, tc_method method, tc_cross cross, tc
     return r;
 }
 
+/* The default range "local": linear data never leave a triangle's corner range,
+ * so the limiter must leave them exact. */
 static tc_recon *make(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan) {
-    return make_avg(m, method, cross, wedges, tan, TC_AVERAGE_AREA);
+    return make_opts(m, method, cross, wedges, tan, TC_AVERAGE_AREA, TC_RANGE_LOCAL);
+}
+
+/* The free cubic (range "free"): quadratics overshoot their corners, so their
+ * reproduction is a property of the unlimited interpolant. */
+static tc_recon *make_free(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan,
+                           tc_average avg) {
+    return make_opts(m, method, cross, wedges, tan, avg, TC_RANGE_FREE);
 }
 
 /* Every combination of options on flagged random meshes reproduces a linear
@@ -105,14 +114,14 @@ TEST(exact_quadratic_reproduced_with_exact_gradients) {
         for (int ci = 0; m && ci < 3; ci++)
             for (int mi = 0; mi < 2; mi++) {
                 tc_method method = mi ? TC_METHOD_CLOUGH_TOCHER_C1 : TC_METHOD_CLOUGH_TOCHER;
-                tc_recon *rec = make(m, method, (tc_cross)ci, TC_WEDGES_CORRECTED, TC_TANGENTS_GIVEN);
+                tc_recon *rec = make_free(m, method, (tc_cross)ci, TC_WEDGES_CORRECTED, TC_TANGENTS_GIVEN, TC_AVERAGE_AREA);
                 if (!rec) continue;
                 double e = tri_reproduction_error(rec, quadratic_data, 400, &r, 1);
                 worst = fmax(worst, e);
                 CHECK_MSG(e <= 1e-12, "%s/%s: quadratic off by %.3g", tc_method_name(method),
                           tc_cross_name((tc_cross)ci), e);
                 tc_recon_free(rec);
-                rec = make_avg(m, method, (tc_cross)ci, TC_WEDGES_CORRECTED, TC_TANGENTS_GIVEN, TC_AVERAGE_NORMALS);
+                rec = make_free(m, method, (tc_cross)ci, TC_WEDGES_CORRECTED, TC_TANGENTS_GIVEN, TC_AVERAGE_NORMALS);
                 if (rec && ci == TC_CROSS_SALESIN) salesin = fmax(salesin, tri_reproduction_error(rec, quadratic_data, 400, &r, 1));
                 tc_recon_free(rec);
             }
@@ -131,7 +140,8 @@ TEST(exact_quadratic_with_estimated_tangents_on_interior) {
     tmesh_grid(&g, 12, 12, 0.25, -1, &r);
     tmesh_sample(&g, 1, quadratic_data, NULL, 0, 1, 0);
     tc_mesh *m = tmesh_build(&g);
-    tc_recon *rec = m ? make(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, 0, TC_TANGENTS_ESTIMATE) : NULL;
+    tc_recon *rec = m ? make_free(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, 0, TC_TANGENTS_ESTIMATE, TC_AVERAGE_AREA)
+                      : NULL;
     if (rec) {
         double e = tri_reproduction_error(rec, quadratic_data, 500, &r, 1);
         CHECK_MSG(e <= 1e-10, "quadratic fit should make the estimate exact, error %.3g", e);

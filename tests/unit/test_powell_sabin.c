@@ -15,16 +15,26 @@
 /* Coefficient indices the tests read (the layout of powell_sabin.c). */
 enum { L_ZETA = 19, L_ALPHA = 22 };
 
-static tc_recon *ps_make(const tc_mesh *m, tc_tangents tan, tc_diags *dg) {
+static tc_recon *ps_make_range(const tc_mesh *m, tc_tangents tan, tc_range range, tc_diags *dg) {
     tc_options o;
     tc_options_default(&o);
     o.method = TC_METHOD_POWELL_SABIN;
     o.tangents = tan;
+    o.range = range;
     tc_recon *r = NULL;
     int st = tc_recon_new(m, &o, &r, dg);
     CHECK_MSG(st == TC_OK, "powell-sabin (%s): status %d: %s", tc_tangents_name(tan), st,
               dg && dg->count ? dg->items[0].message : "");
     return r;
+}
+
+static tc_recon *ps_make(const tc_mesh *m, tc_tangents tan, tc_diags *dg) {
+    return ps_make_range(m, tan, TC_RANGE_LOCAL, dg);
+}
+
+/* The scheme itself, unlimited (range "free"): quadratics overshoot their corners. */
+static tc_recon *ps_make_free(const tc_mesh *m, tc_tangents tan, tc_diags *dg) {
+    return ps_make_range(m, tan, TC_RANGE_FREE, dg);
 }
 
 static const double *coef_of(const tc_recon *r, int32_t t, int ch) {
@@ -406,7 +416,7 @@ TEST(ps_quadratic_reproduced) {
         random_flagged_mesh(&g, &r, trial % 2, 12);
         tmesh_sample(&g, 2, quadratic_data, NULL, 1, 0, 0);
         tc_mesh *m = tmesh_build(&g);
-        tc_recon *rec = m ? ps_make(m, TC_TANGENTS_GIVEN, NULL) : NULL;
+        tc_recon *rec = m ? ps_make_free(m, TC_TANGENTS_GIVEN, NULL) : NULL;
         double e = rec ? tri_reproduction_error(rec, quadratic_data, 500, &r, 1) : INFINITY;
         CHECK_MSG(e <= 1e-12, "trial %d: quadratic off by %.3g", trial, e);
         worst = fmax(worst, e);
@@ -418,7 +428,7 @@ TEST(ps_quadratic_reproduced) {
     tmesh_grid(&g, 12, 12, 0.25, -1, &r);
     tmesh_sample(&g, 1, quadratic_data, NULL, 0, 1, 0);
     tc_mesh *m = tmesh_build(&g);
-    tc_recon *rec = m ? ps_make(m, TC_TANGENTS_ESTIMATE, NULL) : NULL;
+    tc_recon *rec = m ? ps_make_free(m, TC_TANGENTS_ESTIMATE, NULL) : NULL;
     est = rec ? tri_reproduction_error(rec, quadratic_data, 500, &r, 1) : INFINITY;
     CHECK_MSG(est <= 1e-10, "quadratic with estimated tangents off by %.3g", est);
     tc_recon_free(rec);
@@ -505,7 +515,8 @@ TEST(ps_c0_flags_warned_and_smoothed) {
         tc_mesh *m = tmesh_build(&g);
         tc_diags dg;
         tc_diags_init(&dg);
-        tc_recon *rec = m ? ps_make(m, TC_TANGENTS_MIDPOINTS, &dg) : NULL;
+        tc_recon *rec = m ? ps_make_free(m, TC_TANGENTS_MIDPOINTS, &dg) : NULL;
+        drop_range_free_warnings(&dg);
         CHECK_MSG(has_c0_warning(&dg) == flagged && dg.count == flagged, "flagged %d: %d findings, first %s", flagged,
                   dg.count, dg.count ? dg.items[0].message : "");
         if (rec) {
@@ -603,7 +614,7 @@ TEST(ps_cm1_sides_reconstructed_on_their_own) {
     tmesh_sample(&g, 2, quadratic_data, NULL, 1, 0, 0);
     second_quadratic_above(&g, 4.0 / 12);
     tc_mesh *m = tmesh_build(&g);
-    tc_recon *rec = m ? ps_make(m, TC_TANGENTS_GIVEN, NULL) : NULL;
+    tc_recon *rec = m ? ps_make_free(m, TC_TANGENTS_GIVEN, NULL) : NULL;
     double worst = 0, vs, gs;
     if (rec) recon_scales(rec, &vs, &gs);
     for (int i = 0; rec && i < 2000; i++) {

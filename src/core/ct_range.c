@@ -1,0 +1,259 @@
+/* ct_range.c — range-restricted Clough-Tocher: the wedge planes limited (range.c),
+ * then each edge's cross-boundary ordinates, keeping C1 wherever the bound allows.
+ *
+ * Every ordinate of a triangle is one of: a corner value (inside its bound by
+ * definition), an edge ordinate z + g.(p - v)/3 (kept inside by the plane
+ * limiter), cuu (the mean of a corner value and its two edge ordinates), a
+ * cross-boundary ordinate cab, or ccu / ccc (means of the above). So once the
+ * planes and the three cab are inside, the whole net is, and the cubic is.
+ *
+ * C1 across an interior edge ab between T (centroid c) and T' (centroid c')
+ * ties their cross-boundary ordinates: with (la, lb, lc) the barycentrics of
+ * c' in the subtriangle (a, b, c), c'ab = la aab + lb abb + lc cab, lc < 0. With
+ * mu = -lc: mu cab + c'ab = (1 + mu) X, where X = aab + tx (abb - aab) is the
+ * middle leg of the edge's control polygon extended to where the segment cc'
+ * crosses the edge's line (parameter tx). When that crossing lies on the edge
+ * (tx in [0, 1]: the two triangles form a convex quad, or nearly), X lies
+ * between aab and abb, inside both bounds, and cab = c'ab = X is a C1 choice
+ * inside both: the edge is always feasible, and the rule's choice is moved
+ * along the C1 line only as far as the bounds ask. When the crossing lies far
+ * outside the edge (a "dart": both triangles reach far along the edge's line
+ * on one side), X extrapolates the middle leg, and C1 may force an overshoot:
+ * then the planes at the edge's ends are scaled down while that helps, and
+ * where it cannot (proved impossible: no admissible ordinates satisfy the tie),
+ * C1 is given up on that edge with the smallest mismatch, and said so. */
+#include <math.h>
+#include <string.h>
+
+#include "core/ct.h"
+#include "core/geom.h"
+#include "core/internal.h"
+#include "core/range.h"
+
+/* The directions of a corner's two edge ordinates: (p - v) / 3. */
+static int ct_dirs(const void *ctx, int32_t c, double d[TC_PLANE_DIRS_MAX][2]) {
+    const struct tc_mesh *m = ctx;
+    int32_t t = c / 3, k = c % 3;
+    const double *v = tc__vxy(m, m->tri[c]);
+    for (int j = 1; j <= 2; j++) {
+        const double *p = tc__vxy(m, m->tri[3 * t + (k + j) % 3]);
+        d[j - 1][0] = (p[0] - v[0]) / 3;
+        d[j - 1][1] = (p[1] - v[1]) / 3;
+    }
+    return 2;
+}
+
+/* ---- the C1 tie across an edge ---- */
+
+typedef struct {
+    int32_t t, t2;  /* the two triangles; edge k of t is edge k2 of t2 */
+    int k, k2;
+    int32_t ca, cb; /* t's corners at the edge's ends a and b */
+    double la, lb, mu;
+} tie;
+
+/* The barycentrics of t2's centroid in the subtriangle (a, b, c) of t. */
+static void tie_geometry(const struct tc_mesh *m, int32_t t, int k, tie *e) {
+    int32_t ea = 3 * t + k;
+    e->t = t, e->k = k, e->t2 = m->nbr[ea], e->k2 = m->nbr_k[ea];
+    e->ca = ea, e->cb = 3 * t + (k + 1) % 3;
+    const double *a = tc__vxy(m, m->tri[e->ca]);
+    double ab[2], aw[2], aw2[2], c[2], c2[2];
+    tc__sub(ab, tc__vxy(m, m->tri[e->cb]), a);
+    tc__sub(aw, tc__vxy(m, m->tri[3 * t + (k + 2) % 3]), a);
+    tc__sub(aw2, tc__vxy(m, m->tri[3 * e->t2 + (e->k2 + 2) % 3]), a);
+    for (int i = 0; i < 2; i++) c[i] = (ab[i] + aw[i]) / 3, c2[i] = (ab[i] + aw2[i]) / 3;
+    double det = tc__cross(ab, c);
+    double lc = tc__cross(ab, c2) / det;
+    e->lb = tc__cross(c2, c) / det;
+    e->la = 1 - e->lb - lc;
+    e->mu = -lc;
+}
+
+/* The tie's right-hand side (1 + mu) X from t's edge ordinates. */
+static double tie_rhs(const tie *e, const double *o) {
+    return e->la * o[tc__ct_iij[e->ca % 3][e->cb % 3]] + e->lb * o[tc__ct_iij[e->cb % 3][e->ca % 3]];
+}
+
+/* The rounding a tie carries: its right-hand side sums edge ordinates with
+ * weights la, lb (large for a dart), so it is exact only to that many tols. */
+static double tie_slack(const tie *e, double tol) { return tol * (2 + fabs(e->la) + fabs(e->lb) + e->mu); }
+
+typedef struct {
+    const tc_ct_input *x;
+    const tc_bounds *b;
+    tc_range_stats *st;
+} ctx;
+
+static int is_tied(const tc_ct_input *x, int32_t e) {
+    return x->m->nbr[e] >= 0 && tc__eff_flag(x->m, x->ws->honor_flags, e) == TC_C1;
+}
+
+/* ---- darts: scale the planes at an edge's ends while that makes C1 feasible ---- */
+
+/* Edge ordinates of t's edge k in channel ch from the planes cg: aab, abb. */
+static void edge_ordinates(const tc_ct_input *x, const double *cg, const tie *e, int ch, double *aab, double *abb) {
+    const struct tc_mesh *m = x->m;
+    int nc = m->nc;
+    const double *a = tc__vxy(m, m->tri[e->ca]), *b = tc__vxy(m, m->tri[e->cb]);
+    const double *ga = cg + ((size_t)e->ca * nc + ch) * 2, *gb = cg + ((size_t)e->cb * nc + ch) * 2;
+    double ab[2];
+    tc__sub(ab, b, a);
+    *aab = x->cz[(size_t)e->ca * nc + ch] + tc__dot(ga, ab) / 3;
+    *abb = x->cz[(size_t)e->cb * nc + ch] - tc__dot(gb, ab) / 3;
+}
+
+/* The largest lambda in [0, 1] such that scaling both end planes by lambda
+ * makes the tie feasible; -1 if none does (not even flat planes). */
+static double dart_lambda(const tie *e, double za, double zb, double aab, double abb, double flo, double fhi,
+                          double tol) {
+    double r1 = e->la * aab + e->lb * abb, r0 = e->la * za + e->lb * zb; /* rhs at lambda 1 and 0 */
+    if (r1 >= flo - tol && r1 <= fhi + tol) return 1;
+    if (!(r0 >= flo - tol && r0 <= fhi + tol)) return -1;
+    double target = r1 > fhi ? fhi : flo; /* r(lambda) = r0 + lambda (r1 - r0) reaches it */
+    double lambda = (target - r0) / (r1 - r0);
+    return fmin(fmax(lambda, 0), 1);
+}
+
+/* One round over the tied edges: for each infeasible one, scales the planes
+ * at both ends (and their C0 groups). Returns how many planes it scaled. */
+static int dart_round(const ctx *X, double *cg) {
+    const tc_ct_input *x = X->x;
+    const struct tc_mesh *m = x->m;
+    int nc = m->nc, scaled = 0;
+    for (int32_t t = 0; t < m->nt; t++)
+        for (int k = 0; k < 3; k++) {
+            int32_t ea = 3 * t + k;
+            if (!is_tied(x, ea) || m->nbr[ea] < t) continue;
+            tie e;
+            tie_geometry(m, t, k, &e);
+            for (int ch = 0; ch < nc; ch++) {
+                size_t i1 = (size_t)t * nc + ch, i2 = (size_t)e.t2 * nc + ch;
+                double flo = X->b->lo[i2] + e.mu * X->b->lo[i1], fhi = X->b->hi[i2] + e.mu * X->b->hi[i1];
+                double aab, abb, za = x->cz[(size_t)e.ca * nc + ch], zb = x->cz[(size_t)e.cb * nc + ch];
+                edge_ordinates(x, cg, &e, ch, &aab, &abb);
+                double lambda = dart_lambda(&e, za, zb, aab, abb, flo, fhi, tie_slack(&e, X->b->tol[ch]));
+                if (lambda < 0 || lambda >= 1) continue;
+                tc__range_scale_group(x->ws, nc, x->ws->of_corner[e.ca], ch, lambda, cg);
+                tc__range_scale_group(x->ws, nc, x->ws->of_corner[e.cb], ch, lambda, cg);
+                scaled += 2;
+            }
+        }
+    return scaled;
+}
+
+/* ---- the cross-boundary ordinates ---- */
+
+static double range_of(const tc_bounds *b, size_t i) {
+    double r = b->hi[i] - b->lo[i];
+    return isfinite(r) && r > 0 ? r : 1;
+}
+
+/* An edge that ties nothing (boundary, C-1, C0): cab is t's alone. */
+static int clamp_free(const ctx *X, int32_t t, int k, double *coef) {
+    int nc = X->x->m->nc, moved = 0;
+    for (int ch = 0; ch < nc; ch++) {
+        size_t i = (size_t)t * nc + ch;
+        double *cab = coef + i * TC_CT_ORDINATES + tc__ct_cij[k];
+        if (tc__outside(*cab, X->b->lo[i], X->b->hi[i], X->b->tol[ch]) == 0) continue;
+        double v = fmin(fmax(*cab, X->b->lo[i]), X->b->hi[i]);
+        tc__range_note(&X->st->edges, fabs(v - *cab) / range_of(X->b, i), t, k);
+        *cab = v, moved = 1;
+    }
+    return moved;
+}
+
+/* Both cross-boundary ordinates of a tied edge in one channel. The tie
+ * mu x1 + x2 = rhs is written kappa p + q = g with kappa = min(mu, 1/mu), so
+ * q follows from p without growth of rounding. */
+static int clamp_tied_channel(const ctx *X, const tie *e, int ch, double *o, double *o2) {
+    int nc = X->x->m->nc;
+    size_t i1 = (size_t)e->t * nc + ch, i2 = (size_t)e->t2 * nc + ch;
+    double *x1 = o + tc__ct_cij[e->k], *x2 = o2 + tc__ct_cij[e->k2], tol = X->b->tol[ch];
+    double rhs = tie_rhs(e, o), slack = tie_slack(e, tol);
+    /* Inside and tied (to rounding): nothing to do. The literal Project near
+     * its singularity ties the pair only to its own amplified rounding: that
+     * pair is re-tied below, so the limited reconstruction is C1 to rounding. */
+    int inside = tc__outside(*x1, X->b->lo[i1], X->b->hi[i1], tol) == 0 &&
+                 tc__outside(*x2, X->b->lo[i2], X->b->hi[i2], tol) == 0;
+    if (inside && fabs(e->mu * *x1 + *x2 - rhs) <= slack) return 0;
+    int swap = e->mu > 1;
+    double kappa = swap ? 1 / e->mu : e->mu, g = swap ? rhs / e->mu : rhs;
+    double *p = swap ? x2 : x1, *q = swap ? x1 : x2;
+    size_t ip = swap ? i2 : i1, iq = swap ? i1 : i2;
+    double plo = X->b->lo[ip], phi = X->b->hi[ip], qlo = X->b->lo[iq], qhi = X->b->hi[iq];
+    double p0 = *p, q0 = *q, pn, qn;
+    /* q = g - kappa p falls as p rises: some p in [plo, phi] puts q in [qlo, qhi] iff */
+    int high = g - kappa * phi > qhi + slack, low = g - kappa * plo < qlo - slack;
+    if (!high && !low) { /* C1 inside both bounds: move p no further than needed */
+        double jlo = fmax(plo, (g - qhi) / kappa), jhi = fmin(phi, (g - qlo) / kappa);
+        if (jlo > jhi) jlo = jhi = fmin(fmax(0.5 * (jlo + jhi), plo), phi); /* rounding */
+        pn = fmin(fmax(p0, jlo), jhi);
+        qn = g - kappa * pn; /* exactly C1; outside q's bound by rounding (slack) at most */
+    } else { /* no C1 choice inside: the nearest pair, C1 given up here */
+        pn = high ? phi : plo;
+        qn = high ? qhi : qlo;
+        double jump = fabs(qn - (g - kappa * pn)) / fmax(range_of(X->b, iq), range_of(X->b, ip));
+        tc__range_note(&X->st->kinks, jump, e->t, e->k);
+    }
+    double move = fmax(fabs(pn - p0) / range_of(X->b, ip), fabs(qn - q0) / range_of(X->b, iq));
+    if (!inside) tc__range_note(&X->st->edges, move, e->t, e->k);
+    *p = pn, *q = qn;
+    return 1;
+}
+
+/* Limits the cross-boundary ordinates of every edge; marks the triangles whose
+ * ordinates changed in `dirty`. */
+static void limit_edges(const ctx *X, double *coef, uint8_t *dirty) {
+    const struct tc_mesh *m = X->x->m;
+    int nc = m->nc;
+    size_t per = (size_t)nc * TC_CT_ORDINATES;
+    for (int32_t t = 0; t < m->nt; t++)
+        for (int k = 0; k < 3; k++) {
+            int32_t ea = 3 * t + k;
+            if (!is_tied(X->x, ea)) {
+                dirty[t] |= clamp_free(X, t, k, coef);
+                continue;
+            }
+            if (m->nbr[ea] < t) continue;
+            tie e;
+            tie_geometry(m, t, k, &e);
+            for (int ch = 0; ch < nc; ch++) {
+                double *o = coef + (size_t)t * per + (size_t)ch * TC_CT_ORDINATES;
+                double *o2 = coef + (size_t)e.t2 * per + (size_t)ch * TC_CT_ORDINATES;
+                if (clamp_tied_channel(X, &e, ch, o, o2)) dirty[t] = dirty[e.t2] = 1;
+            }
+        }
+}
+
+/* ---- the pipeline ---- */
+
+enum { DART_ROUNDS = 4 };
+
+int tc__ct_ordinates_ranged(const tc_ct_input *x, tc_range mode, double *cg, double *coef, tc_diags *dg) {
+    const struct tc_mesh *m = x->m;
+    tc_bounds b;
+    tc_range_stats st;
+    tc__range_stats_init(&st);
+    int rc = tc__bounds_build(m, x->cz, mode, 0, &b);
+    uint8_t *dirty = rc == TC_OK ? tc__calloc((size_t)m->nt, 1) : NULL;
+    if (rc == TC_OK && !dirty) rc = TC_ENOMEM;
+    if (rc == TC_OK) rc = tc__range_planes(m, x->ws, x->cz, &b, ct_dirs, m, cg, &st);
+    ctx X = {x, &b, &st};
+    for (int round = 0; rc == TC_OK && round < DART_ROUNDS; round++) {
+        int n = dart_round(&X, cg);
+        st.flattened += n;
+        if (!n) break;
+    }
+    if (rc == TC_OK) rc = tc__ct_ordinates(x, coef, dg);
+    if (rc == TC_OK) {
+        limit_edges(&X, coef, dirty);
+        for (int32_t t = 0; t < m->nt; t++)
+            for (int ch = 0; dirty[t] && ch < m->nc; ch++)
+                tc__ct_close(coef + ((size_t)t * m->nc + ch) * TC_CT_ORDINATES);
+        tc__range_warn(m, &st, mode, dg);
+    }
+    free(dirty);
+    tc__bounds_free(&b);
+    return rc;
+}

@@ -1,0 +1,98 @@
+/* range.h — range-restricted reconstruction: per-triangle bounds from the data,
+ * and the limiter of the wedge tangent planes that every method shares.
+ *
+ * The bound of triangle T (range "local") is [min, max] of T's own three corner
+ * values, per channel, with no margin: each piece stays within the values its
+ * own corners carry (the corner values of a C-1 edge's side are that side's).
+ * Range "positive" bounds only from below, by 0, the triangles whose corner
+ * values are all >= 0. A piece is a Bézier patch, so it lies inside the convex
+ * hull of its ordinates: keeping every ordinate inside the bound bounds the
+ * function. The ordinates a wedge's tangent plane sets (z + g.d for the
+ * directions d a method names per corner) are kept inside by projecting the
+ * plane onto the set of admissible planes (g = 0 is always admissible, since
+ * every corner value lies in its own triangle's bound); what each method
+ * builds from them is its own affair (ct_range.c, powell_sabin.c, hermite.c). */
+#ifndef TC_CORE_RANGE_H
+#define TC_CORE_RANGE_H
+
+#include "core/wedge.h"
+
+/* The local bound's margin, as a fraction of the triangle's own spread of
+ * corner values (never below 0 where its corners are >= 0). Smooth data along
+ * a ridge or near an extremum rise slightly above the corners that sample
+ * them (second order); a margin proportional to the spread lets them, while
+ * a flat triangle (spread ~0) stays flat. */
+#ifndef TC_RANGE_MARGIN
+#define TC_RANGE_MARGIN 0.05
+#endif
+
+/* Ordinates within this much of the bound, relative to the channel's largest
+ * |value|, count as inside: rounding, not overshoot. */
+#define TC_RANGE_SLACK 1e-12
+
+typedef struct {
+    int nc;
+    double *lo, *hi;                 /* [nt][nc]; -INFINITY / INFINITY where unbounded */
+    double tol[TC_MAX_CHANNELS];     /* TC_RANGE_SLACK x the channel's largest |value| */
+} tc_bounds;
+
+/* Bounds from the corner values cz [3nt][nc] the reconstruction interpolates.
+ * per_quad: both triangles of a split quad get the range of the quad's four
+ * corners (hermite's patch spans the quad). */
+int tc__bounds_build(const struct tc_mesh *m, const double *cz, tc_range mode, int per_quad, tc_bounds *b);
+void tc__bounds_free(tc_bounds *b);
+
+/* How far ordinate z lies outside [lo, hi] (0 inside, or within tol). */
+static inline double tc__outside(double z, double lo, double hi, double tol) {
+    return z < lo - tol ? lo - z : z > hi + tol ? z - hi : 0;
+}
+
+/* What the limiters did, for the answer's warnings: counts, and the few
+ * places where each did the most (so a warning can name them). */
+enum { TC_RANGE_NAMED = 4 };
+typedef struct {
+    int32_t count;                  /* how many (per element and channel) */
+    int32_t where[TC_RANGE_NAMED];  /* vertex (planes) or triangle (edges, kinks), most first */
+    int edge[TC_RANGE_NAMED];       /* the triangle's edge (edges, kinks) */
+    double size[TC_RANGE_NAMED];    /* the measure (see tc_range_stats), worst first */
+    int named;
+} tc_range_tally;
+
+typedef struct {
+    tc_range_tally planes; /* size: 1 - |g limited| / |g| (in the metric of its ordinates) */
+    tc_range_tally edges;  /* size: how far the cross-boundary ordinate moved / the triangle's range */
+    tc_range_tally kinks;  /* size: the C1 mismatch left / the triangles' range */
+    tc_range_tally twists; /* hermite: size: 1 - the factor the cross derivative's second-order part kept */
+    int32_t flattened;     /* wedge planes scaled down further so a C1 edge could stay in range */
+} tc_range_stats;
+
+/* Counts one event and keeps it if it is among the TC_RANGE_NAMED largest. */
+void tc__range_note(tc_range_tally *t, double size, int32_t where, int edge);
+void tc__range_stats_init(tc_range_stats *s);
+/* The warnings that say what the limiter changed (none if nothing). */
+void tc__range_warn(const struct tc_mesh *m, const tc_range_stats *s, tc_range mode, tc_diags *dg);
+
+/* Range "free": one warning when the reconstruction leaves its data's range
+ * (per channel, [min, max] of all corner values), saying by how much: at
+ * least the largest excursion sampled inside the pieces, at most that of the
+ * Bézier net (its first `nord` coefficients per triangle and channel). */
+void tc__range_report_free(const struct tc_recon *r, int nord, tc_diags *dg);
+
+/* The directions whose ordinates corner `corner`'s plane sets: a method's
+ * ordinate z_corner + g . d[i] for i < the count returned (at most
+ * TC_PLANE_DIRS_MAX), each of which must stay inside the corner's triangle's bound. */
+enum { TC_PLANE_DIRS_MAX = 3 };
+typedef int (*tc_plane_dirs_fn)(const void *ctx, int32_t corner, double d[TC_PLANE_DIRS_MAX][2]);
+
+/* Projects every wedge plane in cg [3nt][nc][2] (equal on the corners of a
+ * wedge) onto its admissible set, in the metric of the ordinates it moves;
+ * wedges coupled across C0 sides are projected together, keeping their common
+ * slope along each C0 side. cz [3nt][nc] are the corner values. */
+int tc__range_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const tc_bounds *b,
+                     tc_plane_dirs_fn dirs, const void *ctx, double *cg, tc_range_stats *st);
+
+/* Scales the plane of wedge w, and of every wedge coupled to it across C0
+ * sides, by lambda in [0, 1] (channel ch) in cg: admissible planes stay admissible. */
+void tc__range_scale_group(const tc_wedge_set *ws, int nc, int32_t w, int ch, double lambda, double *cg);
+
+#endif
