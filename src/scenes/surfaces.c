@@ -10,11 +10,11 @@
  * (the tests check it). The whole scenes add hundreds of triangles, wide
  * penumbrae, C-1 contact and hard-shadow data, and the smooth case. */
 static const tc_dm_surface surfaces[] = {
-    {"square-light", TC_SCENE_SQUARE_LIGHT, {0, 0, 1, 1}, 30, 16},
-    {"penumbra", TC_SCENE_PENUMBRA, {0, 0, 1, 1}, 30, 16},
-    {"point-shadow", TC_SCENE_POINT_SHADOW, {0, 0, 1, 1}, 30, 16},
-    {"box", TC_SCENE_BOX, {0, 0, 1, 1}, 30, 16},
-    {"stiff", TC_SCENE_STIFF, {0, 0, 1, 1}, 30, 16},
+    {"square-light", TC_SCENE_SQUARE_LIGHT, {0, 0, 1, 1}, 30, 32},
+    {"penumbra", TC_SCENE_PENUMBRA, {0, 0, 1, 1}, 30, 32},
+    {"point-shadow", TC_SCENE_POINT_SHADOW, {0, 0, 1, 1}, 30, 32},
+    {"box", TC_SCENE_BOX, {0, 0, 1, 1}, 30, 32},
+    {"stiff", TC_SCENE_STIFF, {0, 0, 1, 1}, 30, 32},
     {"box-corner", TC_SCENE_BOX, {0.35, 0.35, 0.45, 0.45}, 25, 4},
     {"stiff-corner", TC_SCENE_STIFF, {0.305, 0.355, 0.335, 0.385}, 35, 2},
     {"stiff-far-corner", TC_SCENE_STIFF, {0.60, 0.65, 0.64, 0.69}, 40, 1},
