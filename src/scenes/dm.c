@@ -181,7 +181,7 @@ static int choose_apex(const face *f) {
 }
 
 static int fan(face *f) {
-    int c = choose_apex(f);
+    int c = f->nc >= 3 ? choose_apex(f) : -1;
     if (c < 0) return TC_EINVAL; /* cannot happen: a convex face has a usable corner */
     int32_t apex = f->corner[c], k, l, m = f->m;
     apex_sides(f, c, &k, &l);

@@ -49,8 +49,9 @@ const char *tc_scene_mesh_opts_check(const tc_scene_mesh_opts *o);
 
 /* A mesh with its samples. desc is ready for tc_mesh_new and tc_json_request
  * and points into arrays this object owns. Triangles are counter-clockwise.
- * Vertex values are B; where a vertex lies on a C-1 line, the triangles on each
- * side get that side's limit as corner values (only triangles whose corner
+ * Vertex values are B (rounded to opts.digits when asked; on a turned dm mesh,
+ * B of the scene turned by opts.rotation); where a vertex lies on a C-1 line,
+ * the triangles on each side get that side's limit as corner values (only triangles whose corner
  * differs from the vertex value are listed). Midpoint samples on C-1 edges are
  * per side ("triangle" set), elsewhere shared. Flagged edges are given as
  * polylines along each flagged line.
