@@ -341,6 +341,36 @@ typedef struct {
 int tc_compare(const tc_recon *r, const tc_locator *L, size_t n, const double *xy, const double *ref, double scale,
                tc_error_stats *out);
 
+/* ---- overshoot: how far a rendered tile leaves the data --------------------- */
+
+/* One channel of a tile against the mesh's own data. R = hi - lo is the
+ * channel's data range over every triangle's corner values (per-corner values
+ * included). The pixel owned by triangle t, of value v, leaves t's data by
+ *     e = max(0, v - max_t, min_t - v) / unit,   unit = R
+ * (max(|lo|, |hi|) when R = 0, and 1 when that is 0 too), min_t and max_t the
+ * smallest and largest of t's corner values rounded to float as pixels are, so
+ * a pixel equal to a corner value has e = 0 and a linear reconstruction leaves
+ * nothing. A non-finite pixel has e = infinity. */
+typedef struct {
+    double lo, hi;           /* the channel's smallest and largest corner value */
+    double unit;             /* what e is measured in (R unless R = 0) */
+    int64_t pixels;          /* pixels inside the mesh (owner >= 0) */
+    int64_t negative;        /* pixels below 0 when no data is (lo >= 0); else 0 */
+    int64_t beyond;          /* pixels with e > the threshold asked for */
+    double beyond_fraction;  /* beyond / pixels (0 without pixels) */
+    double worst;            /* the largest e */
+    int32_t worst_tri;       /* its pixel's owner; -1 when worst is 0 */
+    int32_t worst_i, worst_j;/* its pixel: column, row from the top; -1 when worst is 0 */
+    double worst_value;      /* that pixel's value */
+    double min_value, max_value; /* over the pixels inside the mesh (0 without any) */
+} tc_overshoot_stats;
+
+/* Measures a tile rendered from a reconstruction on m (tc_render's values
+ * [height][width][C] and owner [height][width]) into out[C]. TC_EINVAL when an
+ * owner is not a triangle of m or -1, or a size is negative. */
+int tc_overshoot(const tc_mesh *m, const float *values, const int32_t *owner, int32_t width, int32_t height,
+                 double threshold, tc_overshoot_stats *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,6 +1,7 @@
 /* main.c — the tocher command-line tool: the JSON API of the daemon, on files.
  * `tocher ordinates MESH.json`, `tocher eval MESH.json [POINTS.json]`; "-" is stdin. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,10 +22,15 @@ static const char usage[] =
     "  eval MESH.json [POINTS.json] [-o OUT]     values (and gradients) at points\n"
     "  render MESH.json [-o OUT]                 an image tile of the \"viewport\" in MESH.json\n"
     "  compare MESH.json [-o OUT]                each method's error against \"reference\" samples\n"
-    "  scene NAME [--mesh disc|uniform|adaptive] [--density N] [--gradients]\n"
-    "        [--no-midpoints] [--threshold T] [--depth D] [--quads] [-o OUT]\n"
+    "  scene NAME [--mesh disc|uniform|adaptive|dm] [--density N] [--gradients]\n"
+    "        [--no-midpoints] [--threshold T] [--depth D] [--quads] [--no-c0]\n"
+    "        [--digits D] [--rotate DEG] [--window X0,Y0,X1,Y1] [-o OUT]\n"
     "                                            a reference scene meshed and sampled, as MESH.json\n"
-    "                                            (--quads: one quad per cell, method hermite)\n"
+    "                                            (--quads: one quad per cell, method hermite;\n"
+    "                                            dm: fans as discontinuity meshers make them;\n"
+    "                                            --no-c0: kinks left unflagged; --digits: values\n"
+    "                                            rounded as printed; --rotate: dm scene turned;\n"
+    "                                            --window: mesh only that rectangle of the plane)\n"
     "  scene --list                              the reference scenes\n"
     "  version                                   print the version\n"
     "  help                                      this text\n"
@@ -193,9 +199,38 @@ static int threshold_arg(const char *s, double *out) {
     return 0;
 }
 
+/* A whole-string finite number; 0, or -1 with a message. */
+static int number_arg(const char *flag, const char *s, double *out) {
+    char *end;
+    errno = 0;
+    *out = strtod(s, &end);
+    if (end == s || *end || errno || !isfinite(*out)) {
+        fprintf(stderr, "tocher: %s %s: expected a number\n", flag, s);
+        return -1;
+    }
+    return 0;
+}
+
 /* Applies the option at argv[*i] (moving *i past its value, if it takes one). */
-static int scene_option(int argc, char **argv, int *i, tc_scene_mesh_opts *o, const char **name, const char **out) {
-    static const char *const valued[] = {"--mesh", "--density", "--threshold", "--depth", "-o"};
+/* "X0,Y0,X1,Y1" with X0 < X1 and Y0 < Y1; 0, or -1 with a message. */
+static int window_arg(const char *s, double w[4]) {
+    int n = -1;
+    if (sscanf(s, "%lf,%lf,%lf,%lf%n", &w[0], &w[1], &w[2], &w[3], &n) == 4 && n == (int)strlen(s) &&
+        isfinite(w[0] + w[1] + w[2] + w[3]) && w[0] < w[2] && w[1] < w[3])
+        return 0;
+    fprintf(stderr, "tocher: --window %s: expected X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1\n", s);
+    return -1;
+}
+
+typedef struct {
+    const char *name, *out;
+    int windowed;
+    double window[4];
+} scene_args;
+
+static int scene_option(int argc, char **argv, int *i, tc_scene_mesh_opts *o, scene_args *sa) {
+    static const char *const valued[] = {"--mesh", "--density", "--threshold", "--depth", "--digits", "--rotate",
+                                         "--window", "-o"};
     const char *a = argv[*i], *v = NULL;
     for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++)
         if (!strcmp(a, valued[k])) {
@@ -208,15 +243,19 @@ static int scene_option(int argc, char **argv, int *i, tc_scene_mesh_opts *o, co
     if (!strcmp(a, "--gradients")) o->gradients = 1;
     else if (!strcmp(a, "--quads")) o->quads = 1;
     else if (!strcmp(a, "--no-midpoints")) o->midpoints = 0;
+    else if (!strcmp(a, "--no-c0")) o->no_c0 = 1;
     else if (!strcmp(a, "--mesh") && tc_scene_mesh_kind_parse(v, &o->kind)) {
-        list_known("mesh kind", v, kind_name_of, 3);
+        list_known("mesh kind", v, kind_name_of, TC_SCENE_MESH_DM + 1);
         return -1;
     } else if (!strcmp(a, "--mesh")) return 0;
     else if (!strcmp(a, "--density")) return int_arg(a, v, 1, 1024, &o->density);
     else if (!strcmp(a, "--depth")) return int_arg(a, v, 0, 12, &o->max_depth);
+    else if (!strcmp(a, "--digits")) return int_arg(a, v, 0, 17, &o->digits);
+    else if (!strcmp(a, "--rotate")) return number_arg(a, v, &o->rotation);
+    else if (!strcmp(a, "--window")) return sa->windowed = 1, window_arg(v, sa->window);
     else if (!strcmp(a, "--threshold")) return threshold_arg(v, &o->threshold);
-    else if (!strcmp(a, "-o")) *out = v;
-    else if (a[0] != '-' && !*name) *name = a;
+    else if (!strcmp(a, "-o")) sa->out = v;
+    else if (a[0] != '-' && !sa->name) sa->name = a;
     else {
         fprintf(stderr, "tocher: scene: unexpected argument '%s'\n\n%s", a, usage);
         return -1;
@@ -234,11 +273,12 @@ static int scene_list(void) {
  * clough-tocher, or hermite with --quads), ready for `tocher ordinates` or the daemon. */
 static int scene_command(int argc, char **argv) {
     tc_scene_mesh_opts o;
-    const char *name = NULL, *out = NULL;
+    scene_args sa = {NULL, NULL, 0, {0, 0, 0, 0}};
     tc_scene_mesh_opts_default(&o);
     if (argc == 3 && !strcmp(argv[2], "--list")) return scene_list();
     for (int i = 2; i < argc; i++)
-        if (scene_option(argc, argv, &i, &o, &name, &out)) return EXIT_USAGE;
+        if (scene_option(argc, argv, &i, &o, &sa)) return EXIT_USAGE;
+    const char *name = sa.name, *out = sa.out;
     tc_scene_id id;
     if (!name || tc_scene_parse(name, &id)) {
         list_known("scene", name, scene_name_of, TC_SCENE_COUNT);
@@ -246,7 +286,8 @@ static int scene_command(int argc, char **argv) {
     }
     tc_scene s;
     tc_scene_mesh *m = NULL;
-    tc_scene_init(&s, id);
+    if (sa.windowed) tc_scene_init_domain(&s, id, sa.window);
+    else tc_scene_init(&s, id);
     int st = tc_scene_mesh_new(&s, &o, &m);
     if (st != TC_OK) {
         const char *why = tc_scene_mesh_opts_check(&o);

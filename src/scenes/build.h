@@ -23,6 +23,11 @@ typedef struct {
     int64_t value_evals;
     int32_t nline[2], cap_line[2], nlv[2], cap_lv[2]; /* [0] c0, [1] c-1 */
     int32_t *line_start[2], *line_verts[2];            /* start has nline + 1 entries */
+    /* Where the scene is evaluated: mesh point p is scene point
+     * frame[0..1] + [frame[2] frame[3]; frame[4] frame[5]] (p - frame[0..1]);
+     * identity unless framed (the rotated dm meshes). */
+    int framed;
+    double frame[6];
     int oom;
 } tc__mbuild;
 
@@ -33,6 +38,9 @@ int32_t tc__mb_vertex(tc__mbuild *b, double x, double y);
 void tc__mb_triangle(tc__mbuild *b, int32_t p, int32_t q, int32_t r);
 /* Appends a polyline of kind 0 (c0) or 1 (c-1) over n >= 2 vertices. */
 void tc__mb_line(tc__mbuild *b, int kind, const int32_t *verts, int32_t n);
+
+/* The discontinuity mesher (dm.c). */
+int tc__scene_dm(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild *b);
 
 /* The a posteriori mesher (adaptive.c). */
 int tc__scene_adaptive(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild *b);

@@ -7,7 +7,8 @@
 #include "scenes/build.h"
 
 static const char *const kind_names[] = {
-    [TC_SCENE_MESH_DISC] = "disc", [TC_SCENE_MESH_UNIFORM] = "uniform", [TC_SCENE_MESH_ADAPTIVE] = "adaptive"};
+    [TC_SCENE_MESH_DISC] = "disc", [TC_SCENE_MESH_UNIFORM] = "uniform", [TC_SCENE_MESH_ADAPTIVE] = "adaptive",
+    [TC_SCENE_MESH_DM] = "dm"};
 #define NKINDS ((int)(sizeof kind_names / sizeof kind_names[0]))
 
 const char *tc_scene_mesh_kind_name(tc_scene_mesh_kind k) {
@@ -31,6 +32,9 @@ void tc_scene_mesh_opts_default(tc_scene_mesh_opts *o) {
     o->threshold = 0.1;
     o->max_depth = 4;
     o->quads = 0;
+    o->no_c0 = 0;
+    o->digits = 0;
+    o->rotation = 0;
 }
 
 double tc_scene_triangle_aspect(const double a[2], const double b[2], const double c[2]) {
@@ -42,6 +46,18 @@ double tc_scene_triangle_aspect(const double a[2], const double b[2], const doub
     }
     double area2 = fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
     return area2 > 0 ? l2 / area2 : INFINITY;
+}
+
+double tc_scene_triangle_largest_angle(const double a[2], const double b[2], const double c[2]) {
+    const double *p[3] = {a, b, c};
+    double worst = 0;
+    for (int k = 0; k < 3; k++) {
+        const double *o = p[k], *u = p[(k + 1) % 3], *v = p[(k + 2) % 3];
+        double ux = u[0] - o[0], uy = u[1] - o[1], vx = v[0] - o[0], vy = v[1] - o[1];
+        /* atan2 of |cross| and dot: accurate for angles near 0 and 180 degrees */
+        worst = fmax(worst, atan2(fabs(ux * vy - uy * vx), ux * vx + uy * vy));
+    }
+    return worst * (180 / 3.14159265358979323846);
 }
 
 /* ---- the builder --------------------------------------------------------------- */
@@ -243,6 +259,10 @@ static int grid_mesh(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild 
 const char *tc_scene_mesh_opts_check(const tc_scene_mesh_opts *o) {
     if ((int)o->kind < 0 || (int)o->kind >= NKINDS) return "unknown mesh kind";
     if (o->density < 1 || o->density > 1024) return "the density must be 1 to 1024";
+    if (o->digits < 0 || o->digits > 17) return "the digits must be 0 (exact) or 1 to 17";
+    if (!(fabs(o->rotation) <= 360)) return "the rotation must be a number of degrees from -360 to 360";
+    if (o->rotation != 0 && o->kind != TC_SCENE_MESH_DM) return "only dm meshes can be rotated";
+    if (o->kind == TC_SCENE_MESH_DM && o->quads) return "dm meshes are fans of triangles, not quads";
     if (o->kind != TC_SCENE_MESH_ADAPTIVE) return NULL;
     if (!(o->threshold >= 0)) return "the threshold must be a number >= 0";
     if (o->max_depth < 0 || o->max_depth > 12) return "the depth must be 0 to 12";
@@ -260,7 +280,9 @@ int tc_scene_mesh_new(const tc_scene *s, const tc_scene_mesh_opts *o, tc_scene_m
     if (!m) return TC_ENOMEM;
     tc__mbuild b;
     tc__mb_init(&b);
-    st = o->kind == TC_SCENE_MESH_ADAPTIVE ? tc__scene_adaptive(s, o, &b) : grid_mesh(s, o, &b);
+    st = o->kind == TC_SCENE_MESH_ADAPTIVE ? tc__scene_adaptive(s, o, &b)
+         : o->kind == TC_SCENE_MESH_DM    ? tc__scene_dm(s, o, &b)
+                                          : grid_mesh(s, o, &b);
     if (st == TC_OK) st = tc__scene_sample(s, o, &b, m);
     tc__mb_free(&b);
     if (st != TC_OK) {

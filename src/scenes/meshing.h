@@ -11,10 +11,12 @@
 typedef enum {
     TC_SCENE_MESH_DISC = 0, /* a priori: the scene's events as flagged grid lines */
     TC_SCENE_MESH_UNIFORM,  /* N x N squares, two triangles each, no flags */
-    TC_SCENE_MESH_ADAPTIVE  /* a posteriori: balanced quadtree split on value spread, no flags */
+    TC_SCENE_MESH_ADAPTIVE, /* a posteriori: balanced quadtree split on value spread, no flags */
+    TC_SCENE_MESH_DM        /* as real discontinuity meshers: faces of the event segments,
+                             * each fanned from one vertex (dm.c) */
 } tc_scene_mesh_kind;
 
-/* "disc", "uniform", "adaptive"; NULL if out of range. */
+/* "disc", "uniform", "adaptive", "dm"; NULL if out of range. */
 const char *tc_scene_mesh_kind_name(tc_scene_mesh_kind k);
 /* 0 and *out set, or -1 if the name is unknown. */
 int tc_scene_mesh_kind_parse(const char *s, tc_scene_mesh_kind *out);
@@ -22,7 +24,8 @@ int tc_scene_mesh_kind_parse(const char *s, tc_scene_mesh_kind *out);
 typedef struct {
     tc_scene_mesh_kind kind;
     int density;      /* N: disc — no cell side longer than 1/N of the domain;
-                       * uniform — N x N cells; adaptive — the N x N start grid. 1..1024 */
+                       * uniform — N x N cells; adaptive — the N x N start grid;
+                       * dm — no face side piece longer than 1/N of the domain. 1..1024 */
     int midpoints;    /* sample every edge midpoint (per side on C-1 edges) */
     int gradients;    /* per-corner gradients by one-sided differences */
     double threshold; /* adaptive: split while (max - min) of B at a cell's corners
@@ -30,17 +33,25 @@ typedef struct {
     int max_depth;    /* adaptive: at most this many splits below the start grid, 0..12 */
     int quads;        /* disc, uniform: each cell one quad instead of two triangles
                        * (adaptive meshes have hanging vertices: refused) */
+    int no_c0;        /* leave the C0 events unflagged (C1), as formats without C0 flags
+                       * do; they are still mesh lines, and C-1 stays flagged */
+    int digits;       /* 1..17: every value (vertex, corner, midpoint) rounded to this many
+                       * significant digits, as a front-end prints them; 0 = exact */
+    double rotation;  /* dm only: the scene's geometry turned by this many degrees about
+                       * the receiver's centre, so events meet its sides at an angle */
 } tc_scene_mesh_opts;
 
-/* disc, N = 8, midpoints on, gradients off, threshold 0.1, depth 4, triangles. */
+/* disc, N = 8, midpoints on, gradients off, threshold 0.1, depth 4, triangles,
+ * C0 flagged, exact values, no rotation. */
 void tc_scene_mesh_opts_default(tc_scene_mesh_opts *o);
 /* NULL if the options are valid, else what is wrong with them (one sentence). */
 const char *tc_scene_mesh_opts_check(const tc_scene_mesh_opts *o);
 
 /* A mesh with its samples. desc is ready for tc_mesh_new and tc_json_request
  * and points into arrays this object owns. Triangles are counter-clockwise.
- * Vertex values are B; where a vertex lies on a C-1 line, the triangles on each
- * side get that side's limit as corner values (only triangles whose corner
+ * Vertex values are B (rounded to opts.digits when asked; on a turned dm mesh,
+ * B of the scene turned by opts.rotation); where a vertex lies on a C-1 line,
+ * the triangles on each side get that side's limit as corner values (only triangles whose corner
  * differs from the vertex value are listed). Midpoint samples on C-1 edges are
  * per side ("triangle" set), elsewhere shared. Flagged edges are given as
  * polylines along each flagged line.
@@ -56,6 +67,8 @@ typedef struct {
     int32_t flagged_c0;       /* mesh edges flagged C0 */
     int32_t flagged_cm1;      /* mesh edges flagged C-1 */
     double worst_aspect;      /* max over triangles of longest edge / shortest altitude */
+    double largest_angle;     /* max over triangles of the largest angle, degrees */
+    double worst_aspect_angle;/* the largest angle of the worst-aspect triangle, degrees */
 
     /* storage behind desc (owned) */
     double *xy_, *values_, *corner_values_, *corner_gradients_, *midpoint_values_;
@@ -71,5 +84,7 @@ void tc_scene_mesh_free(tc_scene_mesh *m);
 /* Longest edge over shortest altitude (= longest^2 / (2 area)); 2/sqrt(3) for
  * an equilateral triangle. */
 double tc_scene_triangle_aspect(const double a[2], const double b[2], const double c[2]);
+/* The largest interior angle in degrees (60 for an equilateral triangle, 180 when degenerate). */
+double tc_scene_triangle_largest_angle(const double a[2], const double b[2], const double c[2]);
 
 #endif

@@ -1,6 +1,7 @@
 /* sampling.c — what a front-end measures on its mesh: vertex values, each side's
  * limit where a vertex is on a C-1 line, edge-midpoint samples, corner gradients. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,6 +30,7 @@ typedef struct {
     int32_t *vstart, *vcorner; /* vertex -> corners (3t + k), CSR */
     double *cz;                /* [3nt] corner values */
     int quads;                 /* per-corner data goes to quads: cell q = triangles 2q, 2q+1 */
+    int digits;                /* values rounded to this many significant digits (0: exact) */
     tc_scene_mesh *m;
 } ctx;
 
@@ -123,6 +125,43 @@ static void apply_flags(ctx *c) {
 
 static const double *vxy(const ctx *c, int32_t v) { return c->b->xy + 2 * (size_t)v; }
 
+/* ---- the scene seen from the mesh ------------------------------------------------- */
+
+/* Mesh vector d in the scene's frame (the linear part of b->frame). */
+static void scene_vector(const ctx *c, const double d[2], double q[2]) {
+    const double *f = c->b->frame;
+    q[0] = f[2] * d[0] + f[3] * d[1];
+    q[1] = f[4] * d[0] + f[5] * d[1];
+}
+
+/* B at mesh point p, and its limit from direction d: every scene evaluation goes
+ * through these two, so a rotated mesh samples the scene in the scene's frame. */
+static double B_at(const ctx *c, const double p[2]) {
+    if (!c->b->framed) return tc_scene_value(c->s, p[0], p[1]);
+    const double *f = c->b->frame;
+    double d[2] = {p[0] - f[0], p[1] - f[1]}, q[2];
+    scene_vector(c, d, q);
+    return tc_scene_value(c->s, f[0] + q[0], f[1] + q[1]);
+}
+
+static double B_from(const ctx *c, const double p[2], double dx, double dy) {
+    if (!c->b->framed) return tc_scene_value_from(c->s, p[0], p[1], dx, dy);
+    const double *f = c->b->frame;
+    double d[2] = {p[0] - f[0], p[1] - f[1]}, q[2], dir[2] = {dx, dy}, u[2];
+    scene_vector(c, d, q);
+    scene_vector(c, dir, u);
+    return tc_scene_value_from(c->s, f[0] + q[0], f[1] + q[1], u[0], u[1]);
+}
+
+/* v as a front-end prints it: rounded to c->digits significant digits
+ * (correctly rounded by printf, read back exactly by strtod). */
+static double printed(const ctx *c, double v) {
+    if (!c->digits || !isfinite(v)) return v;
+    char buf[40];
+    snprintf(buf, sizeof buf, "%.*e", c->digits - 1, v);
+    return strtod(buf, NULL);
+}
+
 static void centroid(const ctx *c, int32_t t, double g[2]) {
     const int32_t *v = c->b->tri + 3 * (size_t)t;
     for (int d = 0; d < 2; d++) g[d] = (vxy(c, v[0])[d] + vxy(c, v[1])[d] + vxy(c, v[2])[d]) / 3;
@@ -132,7 +171,7 @@ static void centroid(const ctx *c, int32_t t, double g[2]) {
 static double value_in(const ctx *c, int32_t t, const double p[2]) {
     double g[2];
     centroid(c, t, g);
-    return tc_scene_value_from(c->s, p[0], p[1], g[0] - p[0], g[1] - p[1]);
+    return B_from(c, p, g[0] - p[0], g[1] - p[1]);
 }
 
 /* ---- values ----------------------------------------------------------------------- */
@@ -144,10 +183,11 @@ static int vertex_values(ctx *c) {
     if (b->values) {
         memcpy(c->m->values_, b->values, (size_t)b->nv * sizeof *b->values);
         c->m->samples += b->value_evals;
-        return TC_OK;
+    } else {
+        for (int32_t v = 0; v < b->nv; v++) c->m->values_[v] = B_at(c, vxy(c, v));
+        c->m->samples += b->nv;
     }
-    for (int32_t v = 0; v < b->nv; v++) c->m->values_[v] = tc_scene_value(c->s, vxy(c, v)[0], vxy(c, v)[1]);
-    c->m->samples += b->nv;
+    for (int32_t v = 0; v < b->nv; v++) c->m->values_[v] = printed(c, c->m->values_[v]);
     return TC_OK;
 }
 
@@ -200,7 +240,7 @@ static void sector_values(ctx *c, int32_t v) {
             if (ang[j] <= a) s = j;
         if (!done[s]) {
             double gap = (s + 1 < n ? ang[s + 1] : ang[0] + 2 * PI) - ang[s], bis = ang[s] + gap / 2;
-            val[s] = tc_scene_value_from(c->s, p[0], p[1], cos(bis), sin(bis));
+            val[s] = printed(c, B_from(c, p, cos(bis), sin(bis)));
             done[s] = 1;
             c->m->samples++;
         }
@@ -262,7 +302,7 @@ static int midpoints(ctx *c) {
         for (int k = 0; k < sides; k++, n++) {
             m->midpoint_edge_[2 * n] = e->v[0], m->midpoint_edge_[2 * n + 1] = e->v[1];
             m->midpoint_tri_[n] = sides == 2 ? (c->quads ? e->t[k] / 2 : e->t[k]) : -1;
-            m->midpoint_values_[n] = sides == 2 ? value_in(c, e->t[k], mid) : tc_scene_value(c->s, mid[0], mid[1]);
+            m->midpoint_values_[n] = printed(c, sides == 2 ? value_in(c, e->t[k], mid) : B_at(c, mid));
         }
     }
     m->desc.nmidpoints = n;
@@ -370,15 +410,18 @@ static void assemble(ctx *c, tc__mbuild *b) {
     }
     for (int32_t t = 0; t < b->nt; t++) {
         const int32_t *v = m->tris_ + 3 * (size_t)t;
-        double a = tc_scene_triangle_aspect(m->xy_ + 2 * (size_t)v[0], m->xy_ + 2 * (size_t)v[1],
-                                            m->xy_ + 2 * (size_t)v[2]);
-        m->worst_aspect = fmax(m->worst_aspect, a);
+        const double *p = m->xy_ + 2 * (size_t)v[0], *q = m->xy_ + 2 * (size_t)v[1], *r = m->xy_ + 2 * (size_t)v[2];
+        double a = tc_scene_triangle_aspect(p, q, r), angle = tc_scene_triangle_largest_angle(p, q, r);
+        if (a > m->worst_aspect) m->worst_aspect = a, m->worst_aspect_angle = angle;
+        m->largest_angle = fmax(m->largest_angle, angle);
     }
 }
 
 int tc__scene_sample(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild *b, tc_scene_mesh *m) {
     ctx c = {0};
-    c.s = s, c.b = b, c.m = m, c.quads = o->quads;
+    c.s = s, c.b = b, c.m = m, c.quads = o->quads, c.digits = o->digits;
+    /* Without C0 flags the C0 events stay mesh lines but are not sent: they are C1. */
+    if (o->no_c0) b->nline[0] = 0, b->nlv[0] = 0;
     int st = b->nt > 0 ? build_edges(&c) : TC_EINVAL;
     if (st == TC_OK) st = build_corners(&c);
     if (st == TC_OK) apply_flags(&c);

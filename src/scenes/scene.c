@@ -227,11 +227,16 @@ static void box_events(tc_scene *s) {
 }
 
 int tc_scene_init(tc_scene *s, tc_scene_id id) {
-    if ((int)id < 0 || id >= TC_SCENE_COUNT) return TC_EINVAL;
+    static const double unit[4] = {0, 0, 1, 1};
+    return tc_scene_init_domain(s, id, unit);
+}
+
+int tc_scene_init_domain(tc_scene *s, tc_scene_id id, const double domain[4]) {
+    if ((int)id < 0 || id >= TC_SCENE_COUNT || !(domain[0] < domain[2] && domain[1] < domain[3])) return TC_EINVAL;
     const scene_def *d = &defs[id];
     memset(s, 0, sizeof *s);
     s->id = id;
-    s->domain[2] = s->domain[3] = 1;
+    memcpy(s->domain, domain, sizeof s->domain);
     s->rho = 0.8;
     s->emit = 1;
     s->point_light = d->point_light;

@@ -72,6 +72,10 @@ typedef struct {
 
 /* Fills s for scene id; TC_OK, or TC_EINVAL for an unknown id. */
 int tc_scene_init(tc_scene *s, tc_scene_id id);
+/* The same scene over another receiver rectangle x0 y0 x1 y1 (x0 < x1, y0 < y1):
+ * only the events change (clipped to it). The discontinuity mesher uses it to
+ * get the events of a rotated receiver's bounding box. */
+int tc_scene_init_domain(tc_scene *s, tc_scene_id id, const double domain[4]);
 
 /* B at the receiver point (x, y) — any point of the plane, not only the domain.
  * On a C-1 line the dark side's value is returned (occluder and box are closed

@@ -203,5 +203,28 @@ else bad "hermite ordinates: 22 labels" "$(head -c 300 "$T/out")"; fi
 run "$CLI" scene penumbra --quads --mesh adaptive
 expect "scene --quads --mesh adaptive: exit 3" 3 "hanging vertices"
 
+# ---- scene --mesh dm: fans as discontinuity meshers make them; no C0, printed values, a patch
+run "$CLI" scene stiff --mesh dm --window 0.305,0.355,0.335,0.385 --rotate 35 --density 2 --no-c0 --digits 6 \
+  --no-midpoints -o "$T/dm.json"
+expect "scene --mesh dm --no-c0 --digits 6 --window --rotate: exit 0" 0
+if "$PY" -c 'import json,sys; r = json.load(sys.stdin); d = r.get("discontinuities", {})
+assert not d.get("c0") and "midpoints" not in r and len(r["triangles"]) > 10, list(r)
+assert all(float("%.5e" % v) == v for v in r["values"]), "not 6 digits"
+x = [p[0] for p in r["vertices"]]; y = [p[1] for p in r["vertices"]]
+assert min(x) == 0.305 and max(x) == 0.335 and min(y) == 0.355 and max(y) == 0.385, "not the window"' \
+  <"$T/dm.json" 2>/dev/null; then ok "scene --mesh dm: no C0 flags, 6-digit values, the window"
+else bad "scene --mesh dm: no C0 flags, 6-digit values, the window" "$(head -c 300 "$T/dm.json")"; fi
+run "$CLI" ordinates "$T/dm.json"
+expect "ordinates of a dm patch: exit 0" 0
+run "$CLI" scene penumbra --mesh dm --rotate 30
+expect "scene --mesh dm --rotate: exit 0" 0
+if "$PY" -c 'import json,sys; r = json.load(sys.stdin); assert r["discontinuities"]["c0"], list(r)' \
+  <"$T/out" 2>/dev/null; then ok "scene --mesh dm: C0 flags by default"
+else bad "scene --mesh dm: C0 flags by default" "$(head -c 300 "$T/out")"; fi
+run "$CLI" scene penumbra --mesh disc --rotate 30
+expect "scene --rotate on a disc mesh: exit 3" 3 "only dm meshes can be rotated"
+run "$CLI" scene penumbra --mesh dm --window 1,0,0,1
+expect "scene --window with x0 > x1: exit 2" 2 "--window"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
