@@ -214,6 +214,24 @@ typedef struct {
 
 void tc_options_default(tc_options *o);
 
+/* The options of tc_options a method reads, one bit each (tc_method_reads);
+ * the options it does not read change nothing in its result. */
+enum {
+    TC_READS_CROSS_BOUNDARY = 1u << 0,
+    TC_READS_WEDGES = 1u << 1,
+    TC_READS_TANGENTS = 1u << 2,
+    TC_READS_TWIST = 1u << 3,
+    TC_READS_AVERAGE = 1u << 4,
+    TC_READS_RANGE = 1u << 5
+};
+
+/* The methods are tc_method 0 .. tc_method_count() - 1. */
+int tc_method_count(void);
+/* TC_READS_* bits of the options method m reads; 0 for an unknown m. */
+unsigned tc_method_reads(tc_method m);
+/* 1 if m needs a mesh given as quads (hermite), else 0. */
+int tc_method_quads_only(tc_method m);
+
 /* Names as used in requests ("clough-tocher", "normal", ...); NULL if unknown. */
 const char *tc_method_name(tc_method m);
 const char *tc_cross_name(tc_cross c);
@@ -310,10 +328,15 @@ typedef struct {
 int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, const tc_render_options *o,
               float *values, int32_t *owner);
 
-/* Draws the mesh's edges over a rendered tile, one pixel wide, coloured by how
- * the reconstruction treats them: C1 grey, C0 yellow, C-1 red, boundary white
- * (3 channels; other channel counts get 0.35 / 0.7 / 1.0 / 1.0 in every channel),
- * all times `scale`. */
+/* Draws the mesh's edges over a rendered tile, one pixel wide, coloured by the
+ * continuity the reconstruction has across them: C1 grey, C0 yellow, C-1 red,
+ * boundary white (3 channels; other channel counts get 0.35 / 0.7 / 1.0 / 1.0 in
+ * every channel), all times `scale`. That is each edge's flag as the method
+ * honours it, capped by what the method reaches: clough-tocher and hermite keep
+ * every flag; clough-tocher-c1 none (all grey); powell-sabin C-1 only (C0 edges
+ * grey); linear and linear4 are C0 across every unflagged or C0 edge (yellow)
+ * and keep C-1; constant is C-1 across every edge (red). Hermite does not draw
+ * the quads' diagonals (inside a patch). */
 void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, float *values);
 
 /* ---- error against a reference -------------------------------------------- */

@@ -257,7 +257,11 @@ static int scene_command(int argc, char **argv) {
     tc_options opt;
     tc_strbuf b;
     tc_options_default(&opt);
-    if (o.quads) opt.method = TC_METHOD_HERMITE; /* what a quad mesh is for; triangle methods read it too */
+    for (int i = 0; o.quads && i < tc_method_count(); i++) /* what a quad mesh is for; triangle methods read it too */
+        if (tc_method_quads_only((tc_method)i)) {
+            opt.method = (tc_method)i;
+            break;
+        }
     tc_strbuf_init(&b);
     tc_json_request(&b, &m->desc, &opt);
     int rc = b.oom ? EXIT_INTERNAL : write_out(out, &b);

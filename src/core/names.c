@@ -1,18 +1,9 @@
-/* names.c — the request-format names of methods and options, both ways.
- * One table per enum so a name and its value cannot drift apart. */
+/* names.c — the request-format names of the options, both ways (the methods'
+ * are in their table, method.c). One table per enum so a name and its value cannot drift apart. */
 #include <string.h>
 
 #include "tocher.h"
 
-static const char *const method_names[] = {
-    [TC_METHOD_CLOUGH_TOCHER] = "clough-tocher",
-    [TC_METHOD_CLOUGH_TOCHER_C1] = "clough-tocher-c1",
-    [TC_METHOD_LINEAR] = "linear",
-    [TC_METHOD_LINEAR4] = "linear4",
-    [TC_METHOD_CONSTANT] = "constant",
-    [TC_METHOD_POWELL_SABIN] = "powell-sabin",
-    [TC_METHOD_HERMITE] = "hermite",
-};
 static const char *const cross_names[] = {
     [TC_CROSS_NORMAL] = "normal", [TC_CROSS_SALESIN] = "salesin", [TC_CROSS_AFFINE] = "affine"};
 static const char *const wedges_names[] = {
@@ -35,7 +26,6 @@ static int parse_name(const char *const *names, int n, const char *s) {
     return -1;
 }
 
-const char *tc_method_name(tc_method m) { return name_of(method_names, COUNT(method_names), (int)m); }
 const char *tc_cross_name(tc_cross c) { return name_of(cross_names, COUNT(cross_names), (int)c); }
 const char *tc_wedges_name(tc_wedges w) { return name_of(wedges_names, COUNT(wedges_names), (int)w); }
 const char *tc_tangents_name(tc_tangents t) { return name_of(tangents_names, COUNT(tangents_names), (int)t); }
@@ -49,7 +39,6 @@ const char *tc_average_name(tc_average a) { return name_of(average_names, COUNT(
         *out = (type)v;                                                 \
         return 0;                                                       \
     }
-DEFINE_PARSE(tc_method_parse, tc_method, method_names)
 DEFINE_PARSE(tc_cross_parse, tc_cross, cross_names)
 DEFINE_PARSE(tc_wedges_parse, tc_wedges, wedges_names)
 DEFINE_PARSE(tc_tangents_parse, tc_tangents, tangents_names)

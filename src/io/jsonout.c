@@ -29,25 +29,25 @@ void tc_json_ints(tc_strbuf *b, const int32_t *x, int n) {
 void tc_json_options(tc_strbuf *b, const tc_options *o) {
     tc_json_key(b, ",", "method");
     tc_strbuf_json_string(b, tc_method_name(o->method));
-    /* Only the options the method reads: the cubics have a cross-boundary rule,
-     * hermite a twist, powell-sabin neither; all three have tangent planes. */
-    int cubic = o->method == TC_METHOD_CLOUGH_TOCHER || o->method == TC_METHOD_CLOUGH_TOCHER_C1;
-    int hermite = o->method == TC_METHOD_HERMITE, ps = o->method == TC_METHOD_POWELL_SABIN;
-    if (!cubic && !hermite && !ps) return;
-    if (cubic) {
+    unsigned reads = tc_method_reads(o->method); /* only the options the method reads */
+    if (reads & TC_READS_CROSS_BOUNDARY) {
         tc_json_key(b, ",", "cross_boundary");
         tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
     }
-    if (hermite) {
+    if (reads & TC_READS_TWIST) {
         tc_json_key(b, ",", "twist");
         tc_strbuf_json_string(b, tc_twist_name(o->twist));
     }
-    if (!ps) {
+    if (reads & TC_READS_WEDGES) {
         tc_json_key(b, ",", "wedges");
         tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
     }
-    tc_json_key(b, ",", "tangents");
-    tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
-    tc_json_key(b, ",", "average");
-    tc_strbuf_json_string(b, tc_average_name(o->average));
+    if (reads & TC_READS_TANGENTS) {
+        tc_json_key(b, ",", "tangents");
+        tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
+    }
+    if (reads & TC_READS_AVERAGE) {
+        tc_json_key(b, ",", "average");
+        tc_strbuf_json_string(b, tc_average_name(o->average));
+    }
 }
