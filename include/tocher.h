@@ -203,6 +203,17 @@ typedef enum {
                           * wedges "literal") */
 } tc_average;
 
+/* How far a reconstruction may leave the range of its data (issue 12). Read by
+ * the methods with tangent planes; the core does not act on it yet (every
+ * value reconstructs as "free"). */
+typedef enum {
+    TC_RANGE_LOCAL = 0, /* each triangle within the range of the corner values around it */
+    TC_RANGE_POSITIVE,  /* never below 0 where the data is >= 0 */
+    TC_RANGE_FREE       /* the paper's cubic as it comes (equal to matplotlib's and scipy's) */
+} tc_range;
+
+/* Invariant: every default is the enum's 0, so a zero-filled tc_options is
+ * tc_options_default's. */
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;
@@ -210,6 +221,7 @@ typedef struct {
     tc_tangents tangents;
     tc_twist twist;
     tc_average average;
+    tc_range range;
 } tc_options;
 
 void tc_options_default(tc_options *o);
@@ -239,6 +251,7 @@ const char *tc_wedges_name(tc_wedges w);
 const char *tc_tangents_name(tc_tangents t);
 const char *tc_twist_name(tc_twist t);
 const char *tc_average_name(tc_average a);
+const char *tc_range_name(tc_range r);
 /* Parse a name; returns 0 and sets *out, or -1 if the name is unknown. */
 int tc_method_parse(const char *s, tc_method *out);
 int tc_cross_parse(const char *s, tc_cross *out);
@@ -246,6 +259,7 @@ int tc_wedges_parse(const char *s, tc_wedges *out);
 int tc_tangents_parse(const char *s, tc_tangents *out);
 int tc_twist_parse(const char *s, tc_twist *out);
 int tc_average_parse(const char *s, tc_average *out);
+int tc_range_parse(const char *s, tc_range *out);
 
 typedef struct tc_recon tc_recon;
 

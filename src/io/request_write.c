@@ -2,6 +2,7 @@
  * scene front-end's output, readable by tc_request_parse to the same doubles. */
 #include "io/request_write.h"
 #include "io/jsonout.h"
+#include "io/options.h"
 
 /* ",\n" before every member but the first, then "name":. */
 static void member(tc_strbuf *b, const char *name) { tc_json_key(b, ",\n", name); }
@@ -147,20 +148,10 @@ static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int
     tc_strbuf_puts(b, "]");
 }
 
+/* "method" and the options it reads (the rest would change nothing). */
 static void options(tc_strbuf *b, const tc_options *o) {
-    member(b, "method");
-    tc_strbuf_json_string(b, tc_method_name(o->method));
-    member(b, "cross_boundary");
-    tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
-    member(b, "wedges");
-    tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
-    member(b, "tangents");
-    tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
-    member(b, "average");
-    tc_strbuf_json_string(b, tc_average_name(o->average));
-    if (o->method != TC_METHOD_HERMITE) return; /* the option only hermite reads */
-    member(b, "twist");
-    tc_strbuf_json_string(b, tc_twist_name(o->twist));
+    for (int i = 0; i < tc_nopts; i++)
+        if (tc_opt_read_by(&tc_opts[i], o->method)) tc_opt_write(b, ",\n", &tc_opts[i], o);
 }
 
 void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {

@@ -42,6 +42,7 @@ static void change(tc_options *o, unsigned bit) {
     if (bit == TC_READS_TANGENTS) o->tangents = TC_TANGENTS_ESTIMATE;
     if (bit == TC_READS_TWIST) o->twist = TC_TWIST_ZERO;
     if (bit == TC_READS_AVERAGE) o->average = TC_AVERAGE_NORMALS;
+    if (bit == TC_READS_RANGE) o->range = TC_RANGE_FREE;
 }
 
 /* Each coefficient of r equals that of base, bit for bit. */
@@ -56,7 +57,7 @@ static int same_coefs(const tc_recon *r, const tc_recon *base) {
  * does not read (tc_method_reads) leaves every coefficient the same. */
 static void check_reads(const tc_mesh *m, tc_method method) {
     static const unsigned bits[] = {TC_READS_CROSS_BOUNDARY, TC_READS_WEDGES, TC_READS_TANGENTS,
-                                    TC_READS_TWIST,          TC_READS_AVERAGE};
+                                    TC_READS_TWIST,          TC_READS_AVERAGE, TC_READS_RANGE};
     tc_options o;
     tc_options_default(&o);
     o.method = method;
