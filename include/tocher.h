@@ -123,7 +123,26 @@ typedef struct {
 
     tc_polylines c0;              /* derivative discontinuities (kinks) */
     tc_polylines cm1;             /* value discontinuities (jumps) */
+
+    /* How closely values that must agree have to agree: corner values at a
+     * vertex joined through C0/C1 edges (not parted by C-1 edges or the
+     * boundary), and midpoint samples given for both sides of a C0/C1 edge.
+     * Relative to the channel's scale, the largest |corner value| of that
+     * channel over the mesh. Differences within it are averaged away (the
+     * reconstruction is then exactly continuous there; a warning says how many
+     * vertices and the largest difference), beyond it the mesh is refused
+     * naming the edge. Below 1e-12 (0 in a zero-filled description) it is
+     * 1e-12: rounding only. tc_mesh_desc_init sets TC_VALUE_TOLERANCE_DEFAULT. */
+    double value_tolerance;
 } tc_mesh_desc;
+
+/* The default value_tolerance: printing to 6 significant digits (differences
+ * up to 1e-5 of the scale) passes; far below one 8-bit grey level. */
+#define TC_VALUE_TOLERANCE_DEFAULT 1e-4
+
+/* Zero-fills d and sets the defaults a front-end wants (value_tolerance).
+ * A description only zero-filled keeps the strictest checks instead. */
+void tc_mesh_desc_init(tc_mesh_desc *d);
 
 /* ---- the mesh ------------------------------------------------------------ */
 

@@ -56,4 +56,15 @@ static inline int tc__is_diagonal(const struct tc_mesh *m, int32_t e) {
 /* Corner values, given tangent planes and midpoint samples. */
 int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *desc, tc_diags *d);
 
+/* ---- agree.c ---- */
+/* Corner values joined across C0/C1 edges at a vertex must agree within
+ * `tolerance` (value_tolerance, at least 1e-12) of their channel's scale;
+ * within it they are replaced by their mean (a warning counts them), beyond
+ * it the error names the edge and the entry (cv_src[3nt]: corner_values entry
+ * per corner, -1 where none, or NULL). Midpoint samples of both sides of a
+ * C0/C1 edge within the tolerance are averaged too (mid_src[3nt]: midpoints
+ * entry per edge side, for the warning's path); larger differences stay. */
+int tc__values_agree(struct tc_mesh *m, double tolerance, const int32_t *cv_src, const int32_t *mid_src,
+                     tc_diags *dg);
+
 #endif

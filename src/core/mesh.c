@@ -30,8 +30,15 @@ void tc_mesh_free(tc_mesh *m) {
     free(m);
 }
 
+void tc_mesh_desc_init(tc_mesh_desc *d) {
+    memset(d, 0, sizeof *d);
+    d->value_tolerance = TC_VALUE_TOLERANCE_DEFAULT;
+}
+
 static int check_sizes(const tc_mesh_desc *d, tc_diags *dg) {
     int st = TC_OK;
+    if (!(d->value_tolerance >= 0 && d->value_tolerance <= 1))
+        st = tc_diags_add(dg, TC_SEV_ERROR, "value_tolerance", "value_tolerance %g must be 0 to 1", d->value_tolerance);
     if (d->nverts < 1 || !d->xy)
         st = tc_diags_add(dg, TC_SEV_ERROR, "vertices", "the mesh has no vertices");
     int tris = d->ntris > 0 && d->tris, quads = d->nquads > 0 && d->quads;

@@ -1,6 +1,7 @@
 /* samples.c — the data a front-end measured, spread onto triangle corners:
  * corner values (vertex values with sparse overrides), given tangent planes
- * (gradients or normals, per vertex or per corner) and edge-midpoint samples. */
+ * (gradients or normals, per vertex or per corner) and edge-midpoint samples;
+ * then those that must agree across C0/C1 edges are made to (agree.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -29,11 +30,11 @@ static int check_elem(const struct tc_mesh *m, const char *field, int32_t i, int
     return tc_diags_add(dg, TC_SEV_ERROR, path, "%s index %d out of range (%d %ss)", w, (int)e, (int)elem_count(m), w);
 }
 
-/* Scratch shared by the steps: which corner_values entry set each corner
- * (for error paths) and the value scale of each channel (for tolerances). */
+/* Scratch shared by the steps: which corner_values entry set each corner and
+ * which midpoints entry each edge side (for the paths of agreement errors). */
 typedef struct {
-    int32_t *cv_src; /* [3nt] or NULL */
-    double scale[TC_MAX_CHANNELS];
+    int32_t *cv_src;  /* [3nt] or NULL */
+    int32_t *mid_src; /* [3nt] or NULL */
 } scratch;
 
 static int all_finite(const double *x, size_t n) {
@@ -284,66 +285,17 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
     return st;
 }
 
-static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
     if (d->nmidpoints == 0) return TC_OK;
     size_t nc = 3 * (size_t)m->nt;
     m->mid = tc__calloc(nc * m->nc, sizeof *m->mid);
     m->mid_has = tc__calloc(nc, sizeof *m->mid_has);
-    int32_t *src = tc__malloc(nc, sizeof *src);
-    int st = TC_ENOMEM;
-    if (m->mid && m->mid_has && src) {
-        st = TC_OK;
-        for (size_t c = 0; c < nc; c++) src[c] = -1;
-        for (int32_t i = 0; i < d->nmidpoints; i++)
-            if (midpoint(m, d, i, src, dg) != TC_OK) st = TC_EINVAL;
-    }
-    free(src);
-    return st;
-}
-
-static void channel_scales(const struct tc_mesh *m, scratch *s) {
-    for (int ch = 0; ch < m->nc; ch++) s->scale[ch] = 0;
-    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
-        for (int ch = 0; ch < m->nc; ch++) {
-            double a = fabs(m->cz[c * m->nc + ch]);
-            if (a > s->scale[ch]) s->scale[ch] = a;
-        }
-}
-
-/* Values agree across a C0/C1 edge: at both of its ends, within 1e-12 of the
- * channel's value scale (exact for values that were not overridden). */
-static int check_edge_values(const struct tc_mesh *m, const scratch *s, size_t c, tc_diags *dg) {
-    int32_t t = (int32_t)(c / 3), k = (int32_t)(c % 3), t2 = m->nbr[c];
-    for (int e = 0; e < 2; e++) {
-        size_t ca = 3 * (size_t)t + (size_t)(k + e) % 3;
-        int32_t v = m->tri[ca];
-        size_t cb = 3 * (size_t)t2 + (size_t)tc__corner_of(m, t2, v);
-        for (int ch = 0; ch < m->nc; ch++) {
-            double za = m->cz[ca * m->nc + ch], zb = m->cz[cb * m->nc + ch];
-            if (fabs(za - zb) <= 1e-12 * s->scale[ch]) continue;
-            char path[48];
-            const char *w = tc__elem_word(m);
-            int32_t src = s->cv_src ? (s->cv_src[cb] >= 0 ? s->cv_src[cb] : s->cv_src[ca]) : -1;
-            if (src >= 0) snprintf(path, sizeof path, "corner_values[%d]", (int)src);
-            else tc__elem_path(m, t2, path, sizeof path);
-            return tc_diags_add(dg, TC_SEV_ERROR, path,
-                                "values disagree across %s edge [%d, %d] at vertex %d: %.17g (%s %d) vs %.17g "
-                                "(%s %d); flag the edge c-1 or give equal values",
-                                m->flag[c] == TC_C0 ? "the C0" : "the C1", (int)m->tri[c],
-                                (int)m->tri[3 * (size_t)t + (size_t)(k + 1) % 3], (int)v, za, w,
-                                (int)tc__elem_index(m, t), zb, w, (int)tc__elem_index(m, t2));
-        }
-    }
-    return TC_OK;
-}
-
-static int check_agreement(const struct tc_mesh *m, const scratch *s, tc_diags *dg) {
+    int32_t *src = s->mid_src = tc__malloc(nc, sizeof *src);
+    if (!m->mid || !m->mid_has || !src) return TC_ENOMEM;
     int st = TC_OK;
-    for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-        int32_t t2 = m->nbr[c];
-        if (t2 < (int32_t)(c / 3) || m->flag[c] == TC_CM1) continue; /* each interior edge once */
-        if (check_edge_values(m, s, c, dg) != TC_OK) st = TC_EINVAL;
-    }
+    for (size_t c = 0; c < nc; c++) src[c] = -1;
+    for (int32_t i = 0; i < d->nmidpoints; i++)
+        if (midpoint(m, d, i, src, dg) != TC_OK) st = TC_EINVAL;
     return st;
 }
 
@@ -376,11 +328,9 @@ int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     int st = corner_values(m, d, &s, dg);
     if (st == TC_OK) st = gradients(m, d, dg);
     if (st == TC_OK) st = hessians(m, d, dg);
-    if (st == TC_OK) st = midpoints(m, d, dg);
-    if (st == TC_OK) {
-        channel_scales(m, &s);
-        if (m->ncorner_overrides) st = check_agreement(m, &s, dg);
-    }
+    if (st == TC_OK) st = midpoints(m, d, &s, dg);
+    if (st == TC_OK) st = tc__values_agree(m, d->value_tolerance, s.cv_src, s.mid_src, dg);
     free(s.cv_src);
+    free(s.mid_src);
     return st;
 }

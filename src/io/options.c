@@ -21,6 +21,7 @@ NAMES(range, tc_range)
  * (the rows read and write enums as int); of a double field likewise. */
 #define SIZED(T, f, type) (offsetof(T, f) + 0 * sizeof(char[sizeof(((T *)0)->f) == sizeof(type) ? 1 : -1]))
 #define ENUM_OPT(f, kind, reads) TC_OPT_RECON, SIZED(tc_options, f, int), TC_OPT_ENUM, kind##_names, 0, 0, reads
+#define MESH_NUMBER(f, lo, hi) TC_OPT_MESH, SIZED(tc_mesh_desc, f, double), TC_OPT_NUMBER, NULL, lo, hi, 0
 
 /* In the order the echo and the writer print them; "method" first. */
 const tc_opt tc_opts[] = {
@@ -31,6 +32,7 @@ const tc_opt tc_opts[] = {
     {"tangents", ENUM_OPT(tangents, tangents, TC_READS_TANGENTS)},
     {"average", ENUM_OPT(average, average, TC_READS_AVERAGE)},
     {"range", ENUM_OPT(range, range, TC_READS_RANGE)},
+    {"value_tolerance", MESH_NUMBER(value_tolerance, 0, 1)},
 };
 const int tc_nopts = (int)(sizeof tc_opts / sizeof tc_opts[0]);
 _Static_assert(sizeof tc_opts / sizeof tc_opts[0] <= TC_OPT_MAX, "raise TC_OPT_MAX");
@@ -68,7 +70,7 @@ int tc_opt_read_by(const tc_opt *row, tc_method m) {
 
 void tc_opt_defaults(tc_options *o, tc_mesh_desc *d) {
     tc_options_default(o);
-    memset(d, 0, sizeof *d);
+    tc_mesh_desc_init(d);
 }
 
 int tc_opt_is_default(const tc_opt *row, const void *obj) {

@@ -56,8 +56,7 @@ void tc_opt_set_number(const tc_opt *row, void *obj, double v);
 int tc_opt_parse_name(const tc_opt *row, const char *s);
 /* 1 if method m reads a TC_OPT_RECON row (the method row: every method). */
 int tc_opt_read_by(const tc_opt *row, tc_method m);
-/* The defaults of every row: tc_options_default, and for the mesh options
- * the request format's (a zero-filled description but for those). */
+/* The defaults of every row: tc_options_default and tc_mesh_desc_init. */
 void tc_opt_defaults(tc_options *o, tc_mesh_desc *d);
 /* 1 if the field holds its default (tc_opt_defaults). */
 int tc_opt_is_default(const tc_opt *row, const void *obj);

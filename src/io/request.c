@@ -1190,6 +1190,7 @@ int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request *
         return TC_REQ_NOMEM;
     }
     tc_options_default(&r->opt);
+    tc_mesh_desc_init(&r->desc);
     r->format = -1;
     rd.r = r;
     cJSON *root = parse_json(&rd, json, len);

@@ -148,10 +148,15 @@ static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int
     tc_strbuf_puts(b, "]");
 }
 
-/* "method" and the options it reads (the rest would change nothing). */
-static void options(tc_strbuf *b, const tc_options *o) {
-    for (int i = 0; i < tc_nopts; i++)
-        if (tc_opt_read_by(&tc_opts[i], o->method)) tc_opt_write(b, ",\n", &tc_opts[i], o);
+/* The mesh options that differ from the request format's defaults (left out
+ * they would read back as those), then, when o is not NULL, "method" and the
+ * options it reads (the rest would change nothing). */
+static void options(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
+    for (int i = 0; i < tc_nopts; i++) {
+        const tc_opt *row = &tc_opts[i];
+        if (row->target == TC_OPT_MESH && !tc_opt_is_default(row, d)) tc_opt_write(b, ",\n", row, d);
+        if (o && tc_opt_read_by(row, o->method)) tc_opt_write(b, ",\n", row, o);
+    }
 }
 
 void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
@@ -171,6 +176,6 @@ void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
         polylines(b, "c-1", &d->cm1, &first);
         tc_strbuf_putc(b, '}');
     }
-    if (o) options(b, o);
+    options(b, d, o);
     tc_strbuf_puts(b, "}\n");
 }

@@ -21,7 +21,10 @@ on any failure):
      daemon keeps answering (body, pixel, triangle limits, stalled clients, timeouts);
   6. 8 concurrent clients x 200 mixed requests all get the reference answers, and the
      daemon's VmRSS stays within 10% (not asserted under sanitizers);
-  7. SIGTERM lets the request in flight finish, refuses new connections, exits 0.
+  7. SIGTERM lets the request in flight finish, refuses new connections, exits 0;
+  8. what real front-ends print: values that must agree within value_tolerance are
+     averaged (beyond it refused naming the edge), degenerate triangles dropped on request
+     with the request's numbering kept.
 Every daemon started here is killed when the script ends, however it ends.
 """
 import atexit
@@ -839,6 +842,53 @@ def section_threads(D):
 MAX_BODY = 1 << 20
 
 
+# ---- 8. what real front-ends print: value_tolerance, degenerate ----------------------------
+
+def edge_ordinates(doc, t, a, b):
+    """The 4 cubic ordinates of triangle t along its edge from corner a to corner b (0..2), by label."""
+    names = "uvw"
+    labels = doc["labels"]
+    want = [names[a] * 3, "".join(sorted(names[a] * 2 + names[b], key=names.index)),
+            "".join(sorted(names[a] + names[b] * 2, key=names.index)), names[b] * 3]
+    return [doc["ordinates"][t][0][labels.index(x)] for x in want]
+
+
+def warning_at(doc, path, text):
+    return any(w["path"] == path and text in w["message"] for w in doc.get("warnings", []))
+
+
+def section_frontend(D):
+    section("8. what real front-ends print")
+    # Triangle 1 = (0, 2, 3) says vertex 2 is 2.000004 where triangle 0 says 2: 1.3e-6 of the
+    # scale 3, printing noise. Accepted, both corners averaged: the shared edge [0, 2] has the
+    # same ordinates on both sides, bit for bit.
+    noisy = with_(SMALL, corner_values=[{"triangle": 1, "values": [0, 2.000004, 3]}])
+    r = post(D, "/v1/ordinates", noisy)
+    doc = r.json() if r.status == 200 else {}
+    ok = r.status == 200 and edge_ordinates(doc, 0, 0, 2) == edge_ordinates(doc, 1, 0, 1)
+    check("value_tolerance (default 1e-4): corner values 1.3e-6 apart across a C1 edge are averaged, the edge "
+          "exactly continuous", ok and abs(edge_ordinates(doc, 0, 0, 2)[3] - 2.000002) < 1e-15, r.brief())
+    check("... and a warning names the vertex and the largest difference",
+          warning_at(doc, "vertices[2]", "differed at 1 vertices, by up to 1.3e-06"), str(doc.get("warnings")))
+    check("... the answer does not echo the mesh option", "value_tolerance" not in doc, str(list(doc)))
+    r = post(D, "/v1/ordinates", with_(noisy, value_tolerance=0))
+    check("value_tolerance 0: the same request refused (strict), naming the edge and both values",
+          not problem_errors(r, 422, ["C1 edge [2, 0]", "vertex 2", "2 (triangle 0)", "2.000004", "(triangle 1)"],
+                             "corner_values[0]"), r.brief())
+    r = post(D, "/v1/ordinates", with_(noisy, corner_values=[{"triangle": 1, "values": [0, 2.001, 3]}]))
+    check("beyond the tolerance (3.3e-4 of the scale): refused, the tolerance in the message",
+          not problem_errors(r, 422, ["C1 edge [2, 0]", "value_tolerance 0.0001", "flag the edge c-1"],
+                             "corner_values[0]"), r.brief())
+    r = post(D, "/v1/ordinates", with_(noisy, corner_values=[{"triangle": 1, "values": [0, 2.001, 3]}],
+                                       value_tolerance=1e-3))
+    check("a larger value_tolerance accepts it", r.status == 200, r.brief())
+    r = post(D, "/v1/compare", with_(noisy, reference={"points": [[0.5, 0.25]], "values": [0.75]},
+                                     methods=[{"method": "linear", "value_tolerance": 0}]))
+    doc = r.json() if r.status == 200 else {}
+    check("value_tolerance inside /v1/compare's methods: ignored with a warning at its path",
+          r.status == 200 and warning_at(doc, "methods[0].value_tolerance", "applies to the mesh"), r.brief())
+
+
 def grid_mesh(n):
     verts = [[i / n, j / n] for j in range(n + 1) for i in range(n + 1)]
     tris = []
@@ -891,6 +941,12 @@ def catalogue(D):
          ["[1, 3] is not an edge"], "discontinuities.c0[0][1]", None, None),
         ("corner values disagreeing across a C1 edge", P(S(corner_values=[{"triangle": 0, "values": [0, 1, 5]}])), 422,
          ["disagree", "C1 edge"], "corner_values[0]", None, None),
+        ("value_tolerance above 1", P(S(value_tolerance=2)), 422, ["value_tolerance must be a number from 0 to 1"],
+         "value_tolerance", None, None),
+        ("value_tolerance as a string", P(S(value_tolerance="1e-4")), 400, ["expected a number"], "value_tolerance",
+         None, None),
+        ("an unknown range", P(S(range="clamped")), 422, ["unknown range 'clamped'", "local, positive, free"], "range",
+         None, None),
         ("normal with N.z = 0", P(S(normals=[[0, 0, 1], [0, 0, 1], [0, 0.5, 0], [0, 0, 1]])), 422, ["N.z"],
          "normals[2]", None, None),
         ("normal with N.z < 0", P(S(normals=[[0, 0, 1], [0.1, 0, -1], [0, 0, 1], [0, 0, 1]])), 422, ["N.z"],
@@ -1372,7 +1428,8 @@ def main():
                "--request-timeout", "0.02")
     steps = [("endpoints", lambda: section_basics(D)), ("images", lambda: section_images(D)),
              ("cli", lambda: section_cli(D)), ("threads", lambda: section_threads(D)),
-             ("bad input", lambda: section_bad_input(D, S)), ("concurrency", lambda: section_concurrency(D)),
+             ("bad input", lambda: section_bad_input(D, S)), ("front-ends", lambda: section_frontend(D)),
+             ("concurrency", lambda: section_concurrency(D)),
              ("shutdown", section_shutdown)]
     for name, fn in steps:
         t0 = time.time()

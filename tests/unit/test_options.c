@@ -97,6 +97,7 @@ TEST(options_echo_and_write_what_the_method_reads) {
         tc_strbuf_init(&b);
         tc_json_request(&b, &d, &o);
         tc_request *r = parse_ok(b.buf ? b.buf : "");
+        if (r) CHECK(r->desc.value_tolerance == 0); /* a zero-filled description's, written out */
         for (int i = 0; r && i < tc_nopts; i++) {
             const tc_opt *row = &tc_opts[i];
             if (row->target != TC_OPT_RECON || row->kind != TC_OPT_ENUM) continue;
@@ -120,6 +121,10 @@ TEST(options_bad_values_name_their_path) {
          TC_REQ_INVALID},
         {"\"methods\": [\"spline\"]", "methods[0]", "unknown method 'spline'", TC_REQ_INVALID},
         {"\"methods\": [{\"twist\": [1]}]", "methods[0].twist", "expected a string", TC_REQ_MALFORMED},
+        {"\"value_tolerance\": 2", "value_tolerance", "value_tolerance must be a number from 0 to 1, got 2",
+         TC_REQ_INVALID},
+        {"\"value_tolerance\": -1e-9", "value_tolerance", "got -1e-09", TC_REQ_INVALID},
+        {"\"value_tolerance\": \"1e-4\"", "value_tolerance", "expected a number", TC_REQ_MALFORMED},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char json[512];
@@ -147,6 +152,25 @@ TEST(options_misspelt_option_suggested) {
     CHECK(d.warnings == 2);
     for (int i = 0; i < d.count; i++) CHECK_STR_CONTAINS(d.items[i].message, "did you mean 'range'?");
     if (r) CHECK(r->opt.range == TC_RANGE_LOCAL && r->methods[0].range == TC_RANGE_LOCAL);
+    tc_request_free(r);
+    tc_diags_free(&d);
+}
+
+/* A mesh option inside an entry of "methods" cannot apply to one method only:
+ * it is ignored with a warning at its path. Requests default to
+ * tc_mesh_desc_init's values. */
+TEST(options_mesh_option_in_methods_warns) {
+    tc_request *r = NULL;
+    tc_diags d;
+    tc_diags_init(&d);
+    const char *json = "{" MESH1 ", \"methods\": [{\"method\": \"linear\", \"value_tolerance\": 0.5}]}";
+    CHECK(tc_request_parse(json, strlen(json), TC_REQ_MESH, &r, &d) == TC_REQ_OK);
+    CHECK(d.warnings == 1 && d.count == 1);
+    if (d.count) {
+        CHECK(!strcmp(d.items[0].path, "methods[0].value_tolerance"));
+        CHECK_STR_CONTAINS(d.items[0].message, "applies to the mesh");
+    }
+    if (r) CHECK(r->desc.value_tolerance == TC_VALUE_TOLERANCE_DEFAULT && r->methods[0].method == TC_METHOD_LINEAR);
     tc_request_free(r);
     tc_diags_free(&d);
 }
