@@ -75,6 +75,16 @@ typedef struct {
     const int32_t *verts;
 } tc_polylines;
 
+/* What tc_mesh_new does with a zero-area or repeated-vertex triangle ([3, 3, 5]). */
+typedef enum {
+    TC_DEGENERATE_REFUSE = 0, /* an error naming it */
+    TC_DEGENERATE_DROP        /* left out before the topology is built, with one warning
+                               * listing them; the other triangles keep their index as given
+                               * (tc_mesh_triangle_of_given). Non-manifold edges and overlaps
+                               * stay errors. No effect on a quad mesh: a degenerate quad is
+                               * refused (dropping it would cut a hole in the patch grid). */
+} tc_degenerate;
+
 /* Everything a front-end sends. All arrays are caller-owned and only read during
  * tc_mesh_new. Optional arrays are NULL (and their counts 0) when absent.
  * "C" below is nchan; per-corner data follows the triangle's vertex order as given.
@@ -134,6 +144,7 @@ typedef struct {
      * naming the edge. Below 1e-12 (0 in a zero-filled description) it is
      * 1e-12: rounding only. tc_mesh_desc_init sets TC_VALUE_TOLERANCE_DEFAULT. */
     double value_tolerance;
+    tc_degenerate degenerate;
 } tc_mesh_desc;
 
 /* The default value_tolerance: printing to 6 significant digits (differences
@@ -155,8 +166,16 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags);
 void tc_mesh_free(tc_mesh *m);
 
 int32_t tc_mesh_vertex_count(const tc_mesh *m);
-/* On a quad mesh: 2 x the quad count (the split triangles, see tc_mesh_desc). */
+/* On a quad mesh: 2 x the quad count (the split triangles, see tc_mesh_desc).
+ * Without the triangles dropped as degenerate: every per-triangle array of
+ * the core (tc_mesh_triangles, tc_recon_coefs, owners) counts these. */
 int32_t tc_mesh_triangle_count(const tc_mesh *m);
+/* Triangles as given, dropped ones included (tc_mesh_triangle_count when none
+ * was dropped), the triangle of given index i (-1 if it was dropped), and the
+ * given index of triangle t. */
+int32_t tc_mesh_given_triangle_count(const tc_mesh *m);
+int32_t tc_mesh_triangle_of_given(const tc_mesh *m, int32_t i);
+int32_t tc_mesh_given_triangle(const tc_mesh *m, int32_t t);
 /* The quads as given ([count][4]); 0 and NULL for a mesh given as triangles.
  * Quad q is triangles 2q and 2q+1 of tc_mesh_triangles. */
 int32_t tc_mesh_quad_count(const tc_mesh *m);
@@ -271,6 +290,7 @@ const char *tc_tangents_name(tc_tangents t);
 const char *tc_twist_name(tc_twist t);
 const char *tc_average_name(tc_average a);
 const char *tc_range_name(tc_range r);
+const char *tc_degenerate_name(tc_degenerate d);
 /* Parse a name; returns 0 and sets *out, or -1 if the name is unknown. */
 int tc_method_parse(const char *s, tc_method *out);
 int tc_cross_parse(const char *s, tc_cross *out);
@@ -279,6 +299,7 @@ int tc_tangents_parse(const char *s, tc_tangents *out);
 int tc_twist_parse(const char *s, tc_twist *out);
 int tc_average_parse(const char *s, tc_average *out);
 int tc_range_parse(const char *s, tc_range *out);
+int tc_degenerate_parse(const char *s, tc_degenerate *out);
 
 typedef struct tc_recon tc_recon;
 

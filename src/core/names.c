@@ -1,5 +1,5 @@
-/* names.c — the request-format names of the options, both ways (the methods'
- * are in their table, method.c). One table per enum so a name and its value cannot drift apart. */
+/* names.c — the request-format names of the options (and of tc_degenerate), both ways
+ * (the methods' are in their table, method.c). One table per enum so a name and its value cannot drift apart. */
 #include <string.h>
 
 #include "tocher.h"
@@ -12,6 +12,7 @@ static const char *const twist_names[] = {[TC_TWIST_ESTIMATE] = "estimate", [TC_
 static const char *const average_names[] = {[TC_AVERAGE_AREA] = "area", [TC_AVERAGE_NORMALS] = "normals"};
 static const char *const range_names[] = {
     [TC_RANGE_LOCAL] = "local", [TC_RANGE_POSITIVE] = "positive", [TC_RANGE_FREE] = "free"};
+static const char *const degenerate_names[] = {[TC_DEGENERATE_REFUSE] = "refuse", [TC_DEGENERATE_DROP] = "drop"};
 static const char *const tangents_names[] = {
     [TC_TANGENTS_AUTO] = "auto", [TC_TANGENTS_GIVEN] = "given",
     [TC_TANGENTS_MIDPOINTS] = "midpoints", [TC_TANGENTS_ESTIMATE] = "estimate"};
@@ -43,6 +44,7 @@ DEFINE_NAMES(tangents, tc_tangents, tangents_names)
 DEFINE_NAMES(twist, tc_twist, twist_names)
 DEFINE_NAMES(average, tc_average, average_names)
 DEFINE_NAMES(range, tc_range, range_names)
+DEFINE_NAMES(degenerate, tc_degenerate, degenerate_names)
 
 /* Every default is its enum's 0 (the invariant in tocher.h), so an option
  * added to tc_options needs nothing here. */

@@ -11,9 +11,10 @@
 /* Per-corner entries name elements: triangles (3 corners), or on a quad mesh
  * quads (4 corners, each landing on one or two split-triangle corners). */
 static int elem_corners(const struct tc_mesh *m) { return m->nq ? 4 : 3; }
-static int32_t elem_count(const struct tc_mesh *m) { return m->nq ? m->nq : m->nt; }
+static int32_t elem_count(const struct tc_mesh *m) { return m->nq ? m->nq : m->ngiven; }
 
-/* The corner ids (3t+k) where corner k of element e lands; returns 1 or 2. */
+/* The corner ids (3t+k) where corner k of element e lands; returns 1 or 2.
+ * e is a quad, or a triangle of the mesh (not a given index: see kept_elem). */
 static int landing(const struct tc_mesh *m, int32_t e, int k, int32_t out[2]) {
     if (m->nq) return tc__quad_corners(e, k, out);
     out[0] = 3 * e + k;
@@ -28,6 +29,20 @@ static int check_elem(const struct tc_mesh *m, const char *field, int32_t i, int
     const char *w = tc__elem_word(m);
     snprintf(path, sizeof path, "%s[%d].%s", field, (int)i, w);
     return tc_diags_add(dg, TC_SEV_ERROR, path, "%s index %d out of range (%d %ss)", w, (int)e, (int)elem_count(m), w);
+}
+
+/* Entry i of `field` names element *e (in range): a triangle's given index
+ * becomes the mesh's. Returns 0 if that triangle was dropped as degenerate,
+ * after a warning that the entry is ignored. */
+static int kept_elem(const struct tc_mesh *m, const char *field, int32_t i, int32_t *e, tc_diags *dg) {
+    if (m->nq || tc__kept(m, *e) >= 0) {
+        if (!m->nq) *e = tc__kept(m, *e);
+        return 1;
+    }
+    char path[64];
+    snprintf(path, sizeof path, "%s[%d].triangle", field, (int)i);
+    tc_diags_add(dg, TC_SEV_WARNING, path, "triangle %d was dropped as degenerate: this entry is ignored", (int)*e);
+    return 0;
 }
 
 /* Scratch shared by the steps: which corner_values entry set each corner and
@@ -91,6 +106,7 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
             st = TC_EINVAL;
             continue;
         }
+        if (!kept_elem(m, "corner_values", i, &e, dg)) continue;
         landing(m, e, 0, c0); /* every element's corner 0 lands on its own first triangle */
         if (s->cv_src[c0[0]] >= 0) {
             snprintf(path, sizeof path, "corner_values[%d].%s", (int)i, tc__elem_word(m));
@@ -206,6 +222,7 @@ static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
             continue;
         }
         seen[e] = i;
+        if (!kept_elem(m, "corner_gradients", i, &e, dg)) continue;
         for (int k = 0; k < elem_corners(m); k++)
             if (put_corner_gradient(m, d, i, e, k, dg) != TC_OK) st = TC_EINVAL;
     }
@@ -249,8 +266,10 @@ static int put_named(struct tc_mesh *m, int32_t *src, int32_t e, int32_t a, int3
                      tc_diags *dg) {
     char path[64];
     int st = TC_OK, found = 0;
+    int32_t k = e, halves = e >= elem_count(m) ? 0 : m->nq ? 2 : 1; /* past the end: none */
+    if (halves && !kept_elem(m, "midpoints", i, &k, dg)) return TC_OK;
     snprintf(path, sizeof path, "midpoints[%d]", (int)i);
-    int32_t first = m->nq ? 2 * e : e, halves = e >= elem_count(m) ? 0 : m->nq ? 2 : 1; /* past the end: none */
+    int32_t first = m->nq ? 2 * k : k;
     for (int32_t t = first; t < first + halves; t++) {
         int32_t c = side_in(m, t, a, b);
         if (c < 0) continue;
@@ -263,6 +282,19 @@ static int put_named(struct tc_mesh *m, int32_t *src, int32_t e, int32_t a, int3
                         (int)b);
 }
 
+/* Sample i is on an edge only dropped triangles had: ignored, with a warning. */
+static int dropped_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t a, int32_t b,
+                        tc_diags *dg) {
+    int32_t t = a == b ? -1 : tc__dropped_with_edge(m, d, a, b);
+    if (t < 0) return 0;
+    char path[64];
+    snprintf(path, sizeof path, "midpoints[%d].edge", (int)i);
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "[%d, %d] is an edge only of triangles dropped as degenerate (triangles[%d]): sample ignored", (int)a,
+                 (int)b, (int)t);
+    return 1;
+}
+
 static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t *src, tc_diags *dg) {
     int32_t a = d->midpoint_edge[2 * (size_t)i], b = d->midpoint_edge[2 * (size_t)i + 1];
     int32_t t = d->midpoint_tri ? d->midpoint_tri[i] : -1;
@@ -273,6 +305,7 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
         return tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index out of range in [%d, %d] (%d vertices)", (int)a,
                             (int)b, (int)m->nv);
     int32_t c = a == b ? -1 : tc__find_edge(m, a, b);
+    if (c < 0 && dropped_edge(m, d, i, a, b, dg)) return TC_OK;
     if (c < 0) return tc_diags_add(dg, TC_SEV_ERROR, path, "[%d, %d] is not an edge of the mesh", (int)a, (int)b);
     snprintf(path, sizeof path, "midpoints[%d].value", (int)i);
     if (check_finite(z, (size_t)m->nc, path, dg) != TC_OK) return TC_EINVAL;

@@ -16,12 +16,14 @@ NAMES(tangents, tc_tangents)
 NAMES(twist, tc_twist)
 NAMES(average, tc_average)
 NAMES(range, tc_range)
+NAMES(degenerate, tc_degenerate)
 
 /* The offset of an enum field, refused at compile time unless it is an int
  * (the rows read and write enums as int); of a double field likewise. */
 #define SIZED(T, f, type) (offsetof(T, f) + 0 * sizeof(char[sizeof(((T *)0)->f) == sizeof(type) ? 1 : -1]))
 #define ENUM_OPT(f, kind, reads) TC_OPT_RECON, SIZED(tc_options, f, int), TC_OPT_ENUM, kind##_names, 0, 0, reads
 #define MESH_NUMBER(f, lo, hi) TC_OPT_MESH, SIZED(tc_mesh_desc, f, double), TC_OPT_NUMBER, NULL, lo, hi, 0
+#define MESH_ENUM(f, kind) TC_OPT_MESH, SIZED(tc_mesh_desc, f, int), TC_OPT_ENUM, kind##_names, 0, 0, 0
 
 /* In the order the echo and the writer print them; "method" first. */
 const tc_opt tc_opts[] = {
@@ -33,6 +35,7 @@ const tc_opt tc_opts[] = {
     {"average", ENUM_OPT(average, average, TC_READS_AVERAGE)},
     {"range", ENUM_OPT(range, range, TC_READS_RANGE)},
     {"value_tolerance", MESH_NUMBER(value_tolerance, 0, 1)},
+    {"degenerate", MESH_ENUM(degenerate, degenerate)},
 };
 const int tc_nopts = (int)(sizeof tc_opts / sizeof tc_opts[0]);
 _Static_assert(sizeof tc_opts / sizeof tc_opts[0] <= TC_OPT_MAX, "raise TC_OPT_MAX");

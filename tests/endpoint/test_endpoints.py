@@ -888,6 +888,44 @@ def section_frontend(D):
     check("value_tolerance inside /v1/compare's methods: ignored with a warning at its path",
           r.status == 200 and warning_at(doc, "methods[0].value_tolerance", "applies to the mesh"), r.brief())
 
+    # degenerate "drop": triangle 1 has zero area (vertex 4 on the bottom edge), triangle 3 repeats
+    # a vertex. The answer keeps the request's numbering; points and pixels fall in the others.
+    clean = with_(SMALL, vertices=SMALL["vertices"] + [[0.5, 0]], values=[0, 1, 2, 3, 0.5])
+    dirty = with_(clean, triangles=[[0, 1, 2], [0, 4, 1], [0, 2, 3], [2, 2, 3]], degenerate="drop")
+    r = post(D, "/v1/ordinates", with_(dirty, degenerate="refuse"))
+    check("degenerate \"refuse\" (the default): the zero-area triangle refused at its path",
+          not problem_errors(r, 422, ["zero-area"], "triangles[1]"), r.brief())
+    r, rc = post(D, "/v1/ordinates", dirty), post(D, "/v1/ordinates", clean)
+    doc, ref = (r.json(), rc.json()) if r.status == rc.status == 200 else ({}, {})
+    ords = doc.get("ordinates", [])
+    check("degenerate \"drop\": /v1/ordinates has 4 entries, null for the dropped triangles 1 and 3, the others as "
+          "without them", len(ords) == 4 and ords[1] is None and ords[3] is None and ords[0] == ref["ordinates"][0]
+          and ords[2] == ref["ordinates"][1], r.brief())
+    check("... one warning lists them at the first one's path",
+          warning_at(doc, "triangles[1]", "2 degenerate triangles") and warning_at(doc, "triangles[1]", ": 1, 3;"),
+          str(doc.get("warnings")))
+    check("... the vertex only they used is reported unused", warning_at(doc, "vertices[4]", "used by no triangle"),
+          str(doc.get("warnings")))
+    pts = [[0.25, 0.1], [0.9, 0.5], [0.1, 0.8], [0.5, 0.0], [1.5, 0.5]]
+    r, rc = post(D, "/v1/evaluate", with_(dirty, points=pts)), post(D, "/v1/evaluate", with_(clean, points=pts))
+    check("... /v1/evaluate locates points in the remaining triangles (values as without them)",
+          r.status == rc.status == 200 and r.json()["values"] == rc.json()["values"] and r.json()["outside"] == [4],
+          r.brief())
+    vp = {"x0": -0.1, "y0": -0.1, "x1": 1.1, "y1": 1.1, "width": 24, "height": 24}
+    r = post(D, "/v1/render", with_(dirty, viewport=vp, format="raw"))
+    rc = post(D, "/v1/render", with_(clean, viewport=vp, format="raw"))
+    check("... /v1/render gives the tile of the mesh without them", r.status == rc.status == 200 and r.body == rc.body,
+          r.brief())
+    r = post(D, "/v1/ordinates", with_(dirty, corner_values=[{"triangle": 2, "values": [0, 2.5, 3]}]))
+    check("... an error about another triangle names its index in the request",
+          not problem_errors(r, 422, ["(triangle 0)", "(triangle 2)", "C1 edge [2, 0]"], "corner_values[0]"), r.brief())
+    r = post(D, "/v1/ordinates", with_(dirty, corner_values=[{"triangle": 3, "values": [9, 9, 9]}],
+                                       midpoints=[{"edge": [0, 4], "value": 1}]))
+    doc = r.json() if r.status == 200 else {}
+    check("... entries naming a dropped triangle or its edges are ignored with a warning",
+          r.status == 200 and warning_at(doc, "corner_values[0].triangle", "triangle 3 was dropped")
+          and warning_at(doc, "midpoints[0].edge", "edge only of triangles dropped"), r.brief())
+
 
 def grid_mesh(n):
     verts = [[i / n, j / n] for j in range(n + 1) for i in range(n + 1)]
@@ -945,6 +983,10 @@ def catalogue(D):
          "value_tolerance", None, None),
         ("value_tolerance as a string", P(S(value_tolerance="1e-4")), 400, ["expected a number"], "value_tolerance",
          None, None),
+        ("an unknown degenerate mode", P(S(degenerate="skip")), 422, ["unknown degenerate 'skip'", "refuse, drop"],
+         "degenerate", None, None),
+        ("a non-manifold edge with degenerate drop", P(with_(fan, degenerate="drop")), 422,
+         ["non-manifold edge [1, 2]"], "triangles[4]", None, None),
         ("an unknown range", P(S(range="clamped")), 422, ["unknown range 'clamped'", "local, positive, free"], "range",
          None, None),
         ("normal with N.z = 0", P(S(normals=[[0, 0, 1], [0, 0, 1], [0, 0.5, 0], [0, 0, 1]])), 422, ["N.z"],
