@@ -760,8 +760,39 @@ def run_cli(*args):
     return p.returncode, p.stdout, p.stderr
 
 
+def options_agree_with_contract():
+    """The request options as `tocher help` lists them (from the options and method tables)
+    against MeshRequest in api/openapi.yaml: the same names, values and defaults."""
+    import yaml
+    with open(os.path.join(ROOT, "api", "openapi.yaml")) as fh:
+        props = yaml.safe_load(fh)["components"]["schemas"]["MeshRequest"]["properties"]
+    rc, out, _ = run_cli("help")
+    text = out.decode().split("request options")[-1].splitlines()[1:]
+    errs = []
+    for line in text:
+        m = re.match(r"^  (\S+)\s+(.*?)(?: \[.*\])?$", line)
+        if not m:
+            continue
+        name, accepts = m.group(1), m.group(2)
+        spec = props.get(name)
+        if spec is None:
+            errs.append("%s not in the contract" % name)
+        elif accepts.startswith("a number"):
+            lo, hi, dflt = re.match(r"a number from (\S+) to (\S+), default (\S+)", accepts).groups()
+            if (float(lo), float(hi), float(dflt)) != (spec.get("minimum"), spec.get("maximum"), spec.get("default")):
+                errs.append("%s: %s vs %s" % (name, accepts, spec))
+        else:
+            values = accepts.split(", ")
+            if values != spec.get("enum") or values[0] != spec.get("default"):
+                errs.append("%s: %s vs enum %s default %s" % (name, values, spec.get("enum"), spec.get("default")))
+    return rc == 0 and len(text) >= 9 and not errs, "; ".join(errs) or "%d options" % len(text)
+
+
 def section_cli(D):
     section("3. /v1/ordinates == tocher ordinates")
+    ok, detail = options_agree_with_contract()
+    check("every request option of `tocher help` (the options table) is in api/openapi.yaml with the same values "
+          "and default", ok, detail)
     files = [("square-light.json", os.path.join(EX, "square-light.json")),
              ("shadow-edges.json", os.path.join(EX, "shadow-edges.json")),
              ("render.json", os.path.join(EX, "render.json"))]
