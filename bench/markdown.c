@@ -432,11 +432,12 @@ static void methods_table(tmpl_dict *d) {
                        "|---|---|---|---|---|---|---|\n");
     for (int m = 0; m < bench_nmethods; m++) {
         const bench_method *bm = &bench_methods[m];
-        int cubic = bm->opt.method == TC_METHOD_CLOUGH_TOCHER || bm->opt.method == TC_METHOD_CLOUGH_TOCHER_C1;
-        int planes = cubic || bm->opt.method == TC_METHOD_HERMITE; /* wedges and tangents apply */
+        unsigned reads = tc_method_reads(bm->opt.method); /* blank: the option does not apply */
         tc_strbuf_printf(&b, "| %s | %s | %s | %s | %s | vertices%s%s | %s |\n", bm->name,
-                         tc_method_name(bm->opt.method), cubic ? tc_cross_name(bm->opt.cross_boundary) : "",
-                         planes ? tc_wedges_name(bm->opt.wedges) : "", planes ? tc_tangents_name(bm->opt.tangents) : "",
+                         tc_method_name(bm->opt.method),
+                         reads & TC_READS_CROSS_BOUNDARY ? tc_cross_name(bm->opt.cross_boundary) : "",
+                         reads & TC_READS_WEDGES ? tc_wedges_name(bm->opt.wedges) : "",
+                         reads & TC_READS_TANGENTS ? tc_tangents_name(bm->opt.tangents) : "",
                          bm->midpoints ? " + midpoints" : "", bm->gradients ? " + gradients" : "", bm->what);
     }
     tmpl_set(d, "methods_table", "%s", b.buf ? b.buf : "");

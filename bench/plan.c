@@ -5,8 +5,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#define OPT(m, c, w, t) {TC_METHOD_##m, TC_CROSS_##c, TC_WEDGES_##w, TC_TANGENTS_##t, TC_TWIST_ESTIMATE, TC_AVERAGE_AREA}
-#define OPT_TWIST(m, t, tw) {TC_METHOD_##m, TC_CROSS_NORMAL, TC_WEDGES_CORRECTED, TC_TANGENTS_##t, TC_TWIST_##tw, TC_AVERAGE_AREA}
+/* Options not named keep their default (every default is 0, tocher.h). */
+#define OPT(m, c, w, t) {.method = TC_METHOD_##m, .cross_boundary = TC_CROSS_##c, .wedges = TC_WEDGES_##w, .tangents = TC_TANGENTS_##t}
+#define OPT_TWIST(m, t, tw) {.method = TC_METHOD_##m, .tangents = TC_TANGENTS_##t, .twist = TC_TWIST_##tw}
 
 /* name, options (method, cross_boundary, wedges, tangents[, twist]), uses
  * midpoints, uses gradients, runs on quads, colour, marker, description. */

@@ -75,6 +75,16 @@ typedef struct {
     const int32_t *verts;
 } tc_polylines;
 
+/* What tc_mesh_new does with a zero-area or repeated-vertex triangle ([3, 3, 5]). */
+typedef enum {
+    TC_DEGENERATE_REFUSE = 0, /* an error naming it */
+    TC_DEGENERATE_DROP        /* left out before the topology is built, with one warning
+                               * listing them; the other triangles keep their index as given
+                               * (tc_mesh_triangle_of_given). Non-manifold edges and overlaps
+                               * stay errors. No effect on a quad mesh: a degenerate quad is
+                               * refused (dropping it would cut a hole in the patch grid). */
+} tc_degenerate;
+
 /* Everything a front-end sends. All arrays are caller-owned and only read during
  * tc_mesh_new. Optional arrays are NULL (and their counts 0) when absent.
  * "C" below is nchan; per-corner data follows the triangle's vertex order as given.
@@ -123,7 +133,27 @@ typedef struct {
 
     tc_polylines c0;              /* derivative discontinuities (kinks) */
     tc_polylines cm1;             /* value discontinuities (jumps) */
+
+    /* How closely values that must agree have to agree: corner values at a
+     * vertex joined through C0/C1 edges (not parted by C-1 edges or the
+     * boundary), and midpoint samples given for both sides of a C0/C1 edge.
+     * Relative to the channel's scale, the largest |corner value| of that
+     * channel over the mesh. Differences within it are averaged away (the
+     * reconstruction is then exactly continuous there; a warning says how many
+     * vertices and the largest difference), beyond it the mesh is refused
+     * naming the edge. Below 1e-12 (0 in a zero-filled description) it is
+     * 1e-12: rounding only. tc_mesh_desc_init sets TC_VALUE_TOLERANCE_DEFAULT. */
+    double value_tolerance;
+    tc_degenerate degenerate;
 } tc_mesh_desc;
+
+/* The default value_tolerance: printing to 6 significant digits (differences
+ * up to 1e-5 of the scale) passes; far below one 8-bit grey level. */
+#define TC_VALUE_TOLERANCE_DEFAULT 1e-4
+
+/* Zero-fills d and sets the defaults a front-end wants (value_tolerance).
+ * A description only zero-filled keeps the strictest checks instead. */
+void tc_mesh_desc_init(tc_mesh_desc *d);
 
 /* ---- the mesh ------------------------------------------------------------ */
 
@@ -136,8 +166,16 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags);
 void tc_mesh_free(tc_mesh *m);
 
 int32_t tc_mesh_vertex_count(const tc_mesh *m);
-/* On a quad mesh: 2 x the quad count (the split triangles, see tc_mesh_desc). */
+/* On a quad mesh: 2 x the quad count (the split triangles, see tc_mesh_desc).
+ * Without the triangles dropped as degenerate: every per-triangle array of
+ * the core (tc_mesh_triangles, tc_recon_coefs, owners) counts these. */
 int32_t tc_mesh_triangle_count(const tc_mesh *m);
+/* Triangles as given, dropped ones included (tc_mesh_triangle_count when none
+ * was dropped), the triangle of given index i (-1 if it was dropped), and the
+ * given index of triangle t. */
+int32_t tc_mesh_given_triangle_count(const tc_mesh *m);
+int32_t tc_mesh_triangle_of_given(const tc_mesh *m, int32_t i);
+int32_t tc_mesh_given_triangle(const tc_mesh *m, int32_t t);
 /* The quads as given ([count][4]); 0 and NULL for a mesh given as triangles.
  * Quad q is triangles 2q and 2q+1 of tc_mesh_triangles. */
 int32_t tc_mesh_quad_count(const tc_mesh *m);
@@ -203,13 +241,16 @@ typedef enum {
                           * wedges "literal") */
 } tc_average;
 
-/* Whether the cubic and quadratic methods may leave the range of their data. */
+/* How far the cubic and quadratic methods may leave the range of their data. */
 typedef enum {
-    TC_RANGE_LOCAL = 0, /* each triangle stays within [min, max] of its own corner values */
+    TC_RANGE_LOCAL = 0, /* each triangle within [min, max] of its own corner values, widened by a
+                         * small margin of its own spread, never below 0 where they are >= 0 */
     TC_RANGE_POSITIVE,  /* never below 0 where a triangle's corner values are all >= 0 */
-    TC_RANGE_FREE       /* the unrestricted interpolant (the paper's; as matplotlib and scipy) */
+    TC_RANGE_FREE       /* the paper's cubic as it comes (equal to matplotlib's and scipy's) */
 } tc_range;
 
+/* Invariant: every default is the enum's 0, so a zero-filled tc_options is
+ * tc_options_default's. */
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;
@@ -222,6 +263,24 @@ typedef struct {
 
 void tc_options_default(tc_options *o);
 
+/* The options of tc_options a method reads, one bit each (tc_method_reads);
+ * the options it does not read change nothing in its result. */
+enum {
+    TC_READS_CROSS_BOUNDARY = 1u << 0,
+    TC_READS_WEDGES = 1u << 1,
+    TC_READS_TANGENTS = 1u << 2,
+    TC_READS_TWIST = 1u << 3,
+    TC_READS_AVERAGE = 1u << 4,
+    TC_READS_RANGE = 1u << 5
+};
+
+/* The methods are tc_method 0 .. tc_method_count() - 1. */
+int tc_method_count(void);
+/* TC_READS_* bits of the options method m reads; 0 for an unknown m. */
+unsigned tc_method_reads(tc_method m);
+/* 1 if m needs a mesh given as quads (hermite), else 0. */
+int tc_method_quads_only(tc_method m);
+
 /* Names as used in requests ("clough-tocher", "normal", ...); NULL if unknown. */
 const char *tc_method_name(tc_method m);
 const char *tc_cross_name(tc_cross c);
@@ -229,6 +288,8 @@ const char *tc_wedges_name(tc_wedges w);
 const char *tc_tangents_name(tc_tangents t);
 const char *tc_twist_name(tc_twist t);
 const char *tc_average_name(tc_average a);
+const char *tc_range_name(tc_range r);
+const char *tc_degenerate_name(tc_degenerate d);
 /* Parse a name; returns 0 and sets *out, or -1 if the name is unknown. */
 int tc_method_parse(const char *s, tc_method *out);
 int tc_cross_parse(const char *s, tc_cross *out);
@@ -236,6 +297,8 @@ int tc_wedges_parse(const char *s, tc_wedges *out);
 int tc_tangents_parse(const char *s, tc_tangents *out);
 int tc_twist_parse(const char *s, tc_twist *out);
 int tc_average_parse(const char *s, tc_average *out);
+int tc_range_parse(const char *s, tc_range *out);
+int tc_degenerate_parse(const char *s, tc_degenerate *out);
 
 typedef struct tc_recon tc_recon;
 
@@ -318,10 +381,15 @@ typedef struct {
 int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, const tc_render_options *o,
               float *values, int32_t *owner);
 
-/* Draws the mesh's edges over a rendered tile, one pixel wide, coloured by how
- * the reconstruction treats them: C1 grey, C0 yellow, C-1 red, boundary white
- * (3 channels; other channel counts get 0.35 / 0.7 / 1.0 / 1.0 in every channel),
- * all times `scale`. */
+/* Draws the mesh's edges over a rendered tile, one pixel wide, coloured by the
+ * continuity the reconstruction has across them: C1 grey, C0 yellow, C-1 red,
+ * boundary white (3 channels; other channel counts get 0.35 / 0.7 / 1.0 / 1.0 in
+ * every channel), all times `scale`. That is each edge's flag as the method
+ * honours it, capped by what the method reaches: clough-tocher and hermite keep
+ * every flag; clough-tocher-c1 none (all grey); powell-sabin C-1 only (C0 edges
+ * grey); linear and linear4 are C0 across every unflagged or C0 edge (yellow)
+ * and keep C-1; constant is C-1 across every edge (red). Hermite does not draw
+ * the quads' diagonals (inside a patch). */
 void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, float *values);
 
 /* ---- error against a reference -------------------------------------------- */

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "io/api.h"
+#include "io/options.h"
 #include "io/request_write.h"
 #include "scenes/meshing.h"
 #include "tocher.h"
@@ -37,7 +38,7 @@ static const char usage[] =
     "\n"
     "MESH.json is a request as POSTed to the daemon (see api/openapi.yaml):\n"
     "vertices, triangles, values, optional gradients, midpoints, discontinuities,\n"
-    "method, cross_boundary, wedges, tangents. For eval, \"points\" and\n"
+    "and the options listed below. For eval, \"points\" and\n"
     "\"with_gradients\" come from POINTS.json, or from MESH.json if it has them.\n"
     "For render, the format is MESH.json's \"format\", else OUT's extension (.png\n"
     ".exr .tif .tiff .raw), else png. A file name of - reads standard input.\n"
@@ -49,7 +50,30 @@ static const char usage[] =
     "  --threads N     render with N threads (default: all CPUs)\n"
     "  --timings       add the \"timings\" object the daemon adds to JSON responses\n"
     "\n"
-    "exit status: 0 ok, 2 usage, 3 invalid input, 4 file error, 5 internal error\n";
+    "exit status: 0 ok, 2 usage, 3 invalid input, 4 file error, 5 internal error\n"
+    "\n"
+    "request options (the default first; in brackets the methods that read it):\n";
+
+/* The usage, then every request option from the options table (io/options.c)
+ * with what it accepts and which methods read it (the method table). */
+static void print_usage(FILE *f) {
+    tc_options def_opt;
+    tc_mesh_desc def_desc;
+    tc_opt_defaults(&def_opt, &def_desc);
+    fputs(usage, f);
+    for (int i = 0; i < tc_nopts; i++) {
+        const tc_opt *row = &tc_opts[i];
+        char accepts[256];
+        tc_opt_accepts(row, accepts, sizeof accepts);
+        fprintf(f, "  %-16s %s", row->name, accepts);
+        if (row->kind == TC_OPT_NUMBER)
+            fprintf(f, ", default %g", tc_opt_get_number(row, tc_opt_object(row, &def_opt, &def_desc)));
+        if (row->target == TC_OPT_MESH) fputs(" [the mesh: every method]", f);
+        for (int m = 0, n = 0; row->target == TC_OPT_RECON && row->reads && m < tc_method_count(); m++)
+            if (tc_opt_read_by(row, (tc_method)m)) fprintf(f, "%s%s", n++ ? ", " : " [", tc_method_name((tc_method)m));
+        fputs(row->target == TC_OPT_RECON && row->reads ? "]\n" : "\n", f);
+    }
+}
 
 typedef struct {
     const char *cmd, *files[2], *out;
@@ -257,7 +281,8 @@ static int scene_option(int argc, char **argv, int *i, tc_scene_mesh_opts *o, sc
     else if (!strcmp(a, "-o")) sa->out = v;
     else if (a[0] != '-' && !sa->name) sa->name = a;
     else {
-        fprintf(stderr, "tocher: scene: unexpected argument '%s'\n\n%s", a, usage);
+        fprintf(stderr, "tocher: scene: unexpected argument '%s'\n\n", a);
+        print_usage(stderr);
         return -1;
     }
     return 0;
@@ -298,7 +323,11 @@ static int scene_command(int argc, char **argv) {
     tc_options opt;
     tc_strbuf b;
     tc_options_default(&opt);
-    if (o.quads) opt.method = TC_METHOD_HERMITE; /* what a quad mesh is for; triangle methods read it too */
+    for (int i = 0; o.quads && i < tc_method_count(); i++) /* what a quad mesh is for; triangle methods read it too */
+        if (tc_method_quads_only((tc_method)i)) {
+            opt.method = (tc_method)i;
+            break;
+        }
     tc_strbuf_init(&b);
     tc_json_request(&b, &m->desc, &opt);
     int rc = b.oom ? EXIT_INTERNAL : write_out(out, &b);
@@ -312,11 +341,11 @@ int main(int argc, char **argv) {
     args a;
     if (argc > 1 && !strcmp(argv[1], "scene")) return scene_command(argc, argv);
     if (parse_args(argc, argv, &a) < 0) {
-        fputs(usage, stderr);
+        print_usage(stderr);
         return EXIT_USAGE;
     }
     if (!strcmp(a.cmd, "help") || !strcmp(a.cmd, "--help") || !strcmp(a.cmd, "-h")) {
-        fputs(usage, stdout);
+        print_usage(stdout);
         return 0;
     }
     if (!strcmp(a.cmd, "version") || !strcmp(a.cmd, "--version")) {
@@ -326,7 +355,8 @@ int main(int argc, char **argv) {
     int known = !strcmp(a.cmd, "ordinates") || !strcmp(a.cmd, "eval") || !strcmp(a.cmd, "render") ||
                 !strcmp(a.cmd, "compare");
     if (!known || a.nfiles < 1 || (strcmp(a.cmd, "eval") && a.nfiles > 1)) {
-        fprintf(stderr, "tocher: %s\n\n%s", known ? "missing or extra file arguments" : "unknown command", usage);
+        fprintf(stderr, "tocher: %s\n\n", known ? "missing or extra file arguments" : "unknown command");
+        print_usage(stderr);
         return EXIT_USAGE;
     }
     return run(&a);

@@ -11,7 +11,7 @@
 #include "core/recon.h"
 #include "core/wedge.h"
 
-static const char *const labels[TC_HERMITE_COEFS] = {
+const char *const tc__hermite_labels[TC_HERMITE_COEFS] = {
     "b00", "b01", "b02", "b03", "b10", "b11", "b12", "b13", "b20", "b21", "b22",
     "b23", "b30", "b31", "b32", "b33", "xb",  "yb",  "xc",  "yc",  "xd",  "yd"};
 
@@ -230,7 +230,7 @@ static int twists_build(const struct tc_recon *r, twists *tw) {
     const struct tc_mesh *m = r->m;
     memset(tw, 0, sizeof *tw);
     tw->m = m, tw->cg = r->cgrad;
-    int st = tc__wedges_build(m, TC_HONOR_ALL, &tw->ws);
+    int st = tc__wedges_build(m, r->method->honour, &tw->ws);
     if (st != TC_OK || r->opt.twist != TC_TWIST_ESTIMATE) return st;
     tw->H = tc__malloc((size_t)tw->ws.nw * m->nc, 3 * sizeof *tw->H);
     if (!tw->H) return TC_ENOMEM;
@@ -467,15 +467,8 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
  * depend only on its ends' values and slopes along it, which the coupled
  * planes of a C0 edge share, so C0 edges keep their kink and C-1 their jump. */
 int tc__hermite_build(struct tc_recon *r, tc_diags *dg) {
-    const struct tc_mesh *m = r->m;
-    if (m->nq == 0)
-        return tc_diags_add(dg, TC_SEV_ERROR, "triangles",
-                            "hermite needs quads: give the mesh as \"quads\": [[a, b, c, d], ...]");
-    r->ncoef = TC_HERMITE_COEFS, r->labels = labels, r->eval = tc__hermite_eval;
-    r->coef = tc__malloc((size_t)m->nt * m->nc, TC_HERMITE_COEFS * sizeof *r->coef);
-    if (!r->coef) return TC_ENOMEM;
-    tc_plane_use use = {hermite_dirs, m, 1};
-    int st = tc__recon_planes(r, TC_HONOR_ALL, &use, dg);
+    tc_plane_use use = {hermite_dirs, r->m, 1};
+    int st = tc__recon_planes(r, &use, dg);
     if (st != TC_OK) return st;
     twists tw;
     st = twists_build(r, &tw);

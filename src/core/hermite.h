@@ -10,6 +10,7 @@
  * corners b, c, d relative to a (the triangle's first corner) at
  * TC_HERMITE_GEOM: xb yb xc yc xd yd. Both halves of a quad hold the same. */
 enum { TC_HERMITE_GEOM = 16, TC_HERMITE_COEFS = 22 };
+extern const char *const tc__hermite_labels[TC_HERMITE_COEFS];
 
 /* The parameters (s, t) with x(s, t) = d for the bilinear map of the convex
  * quad P[0..3] (P[0] = 0: corners relative to the first), x(s, t) =

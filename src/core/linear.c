@@ -8,26 +8,35 @@ const char *const tc__constant_labels[1] = {"mean"};
 const char *const tc__linear_labels[3] = {"u", "v", "w"};
 const char *const tc__linear4_labels[6] = {"u", "v", "w", "uv", "vw", "wu"};
 
-void tc__constant_build(const struct tc_mesh *m, double *coef) {
+int tc__constant_build(struct tc_recon *r, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
+    double *coef = r->coef;
     int nc = m->nc;
+    (void)dg;
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++) {
             const double *z = m->cz + 3 * (size_t)t * nc + ch;
             coef[(size_t)t * nc + ch] = z[0] + ((z[nc] - z[0]) + (z[2 * nc] - z[0])) / 3; /* exact when equal; no overflow */
         }
+    return TC_OK;
 }
 
-void tc__linear_build(const struct tc_mesh *m, double *coef) {
+int tc__linear_build(struct tc_recon *r, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
     int nc = m->nc;
+    (void)dg;
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++)
             for (int k = 0; k < 3; k++)
-                coef[((size_t)t * nc + ch) * 3 + k] = m->cz[(3 * (size_t)t + k) * nc + ch];
+                r->coef[((size_t)t * nc + ch) * 3 + k] = m->cz[(3 * (size_t)t + k) * nc + ch];
+    return TC_OK;
 }
 
 /* Corner values then the midpoint samples of edges 0 (uv), 1 (vw), 2 (wu). An
  * edge without a sample gets the mean of its ends: linear along that edge. */
-void tc__linear4_build(const struct tc_mesh *m, double *coef, tc_diags *dg) {
+int tc__linear4_build(struct tc_recon *r, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
+    double *coef = r->coef;
     int nc = m->nc;
     int32_t missing = 0;
     for (int32_t t = 0; t < m->nt; t++)
@@ -47,6 +56,7 @@ void tc__linear4_build(const struct tc_mesh *m, double *coef, tc_diags *dg) {
     if (missing)
         tc_diags_add(dg, TC_SEV_WARNING, "midpoints",
                      "%d triangle edge sides have no midpoint sample; linear4 is linear along them", (int)missing);
+    return TC_OK;
 }
 
 void tc__constant_eval(const double *o, const tc_at *at, double *value, double *grad) {

@@ -13,6 +13,8 @@ void tc_mesh_free(tc_mesh *m) {
     if (!m) return;
     free(m->xy);
     free(m->tri);
+    free(m->given);
+    free(m->kept);
     free(m->quad);
     free(m->orient);
     free(m->cz);
@@ -30,8 +32,15 @@ void tc_mesh_free(tc_mesh *m) {
     free(m);
 }
 
+void tc_mesh_desc_init(tc_mesh_desc *d) {
+    memset(d, 0, sizeof *d);
+    d->value_tolerance = TC_VALUE_TOLERANCE_DEFAULT;
+}
+
 static int check_sizes(const tc_mesh_desc *d, tc_diags *dg) {
     int st = TC_OK;
+    if (!(d->value_tolerance >= 0 && d->value_tolerance <= 1))
+        st = tc_diags_add(dg, TC_SEV_ERROR, "value_tolerance", "value_tolerance %g must be 0 to 1", d->value_tolerance);
     if (d->nverts < 1 || !d->xy)
         st = tc_diags_add(dg, TC_SEV_ERROR, "vertices", "the mesh has no vertices");
     int tris = d->ntris > 0 && d->tris, quads = d->nquads > 0 && d->quads;
@@ -61,10 +70,12 @@ static int check_finite_xy(const tc_mesh_desc *d, tc_diags *dg) {
 
 /* Index range, distinct corners and non-zero area. The area test is relative
  * to the two edges from corner 0, so slivers of any aspect ratio pass as long
- * as the sign of their area is above the rounding of its computation. */
-static int check_triangle(const tc_mesh_desc *d, int32_t t, tc_diags *dg) {
+ * as the sign of their area is above the rounding of its computation. A
+ * degenerate triangle is an error, or with `drop` only marked (*degenerate). */
+static int check_triangle(const tc_mesh_desc *d, int32_t t, int drop, int *degenerate, tc_diags *dg) {
     const int32_t *v = d->tris + 3 * (size_t)t;
     char path[48];
+    *degenerate = 0;
     for (int k = 0; k < 3; k++)
         if (v[k] < 0 || v[k] >= d->nverts) {
             snprintf(path, sizeof path, "triangles[%d][%d]", (int)t, k);
@@ -74,6 +85,8 @@ static int check_triangle(const tc_mesh_desc *d, int32_t t, tc_diags *dg) {
     const double *p0 = d->xy + 2 * (size_t)v[0], *p1 = d->xy + 2 * (size_t)v[1], *p2 = d->xy + 2 * (size_t)v[2];
     int repeated = v[0] == v[1] || v[1] == v[2] || v[0] == v[2];
     if (!repeated && tc__nonzero_area(p0, p1, p2)) return TC_OK; /* the path is formatted only on failure */
+    *degenerate = 1;
+    if (drop) return TC_OK;
     snprintf(path, sizeof path, "triangles[%d]", (int)t);
     if (repeated)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "degenerate triangle: a vertex appears twice in [%d, %d, %d]",
@@ -82,17 +95,80 @@ static int check_triangle(const tc_mesh_desc *d, int32_t t, tc_diags *dg) {
                         (int)v[0], (int)v[1], (int)v[2]);
 }
 
-/* The triangles as given, or the quads checked and split (quads.c). */
-static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
-    if (m->nq) return tc__quads_split(m, d, dg);
-    int st = TC_OK;
-    for (int32_t t = 0; t < d->ntris; t++)
-        if (check_triangle(d, t, dg) != TC_OK) st = TC_EINVAL;
-    if (st != TC_OK) return st;
+/* One warning for the dropped triangles: the first few given indices and the count. */
+static void warn_dropped(const struct tc_mesh *m, tc_diags *dg) {
+    enum { SHOW = 8 };
+    char path[48], list[160];
+    size_t n = 0;
+    int32_t shown = 0, first = -1;
+    for (int32_t i = 0; i < m->ngiven && shown < SHOW; i++) {
+        if (m->kept[i] >= 0) continue;
+        if (first < 0) first = i;
+        int w = snprintf(list + n, sizeof list - n, "%s%d", shown ? ", " : "", (int)i);
+        if (w > 0 && (size_t)w < sizeof list - n) n += (size_t)w;
+        shown++;
+    }
+    snprintf(path, sizeof path, "triangles[%d]", (int)first);
+    int32_t ndropped = m->ngiven - m->nt;
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "%d degenerate triangles (zero area or a vertex repeated) dropped (degenerate \"drop\"): %s%s; "
+                 "the others keep their index", (int)ndropped, list, ndropped > shown ? ", ..." : "");
+}
+
+/* The triangles kept (all, or those not degenerate with `drop`), and the
+ * given <-> kept index maps when some were dropped. */
+static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_t *bad, int32_t nbad, tc_diags *dg) {
+    m->ngiven = d->ntris;
+    m->nt = d->ntris - nbad;
+    if (m->nt == 0)
+        return tc_diags_add(dg, TC_SEV_ERROR, "triangles", "every triangle is degenerate (%d dropped)", (int)nbad);
     m->tri = tc__malloc((size_t)m->nt * 3, sizeof *m->tri);
     if (!m->tri) return TC_ENOMEM;
-    memcpy(m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
+    if (nbad == 0) {
+        memcpy(m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
+        return TC_OK;
+    }
+    m->given = tc__malloc((size_t)m->nt, sizeof *m->given);
+    m->kept = tc__malloc((size_t)m->ngiven, sizeof *m->kept);
+    if (!m->given || !m->kept) return TC_ENOMEM;
+    for (int32_t i = 0, t = 0; i < m->ngiven; i++) {
+        m->kept[i] = bad[i] ? -1 : t;
+        if (bad[i]) continue;
+        m->given[t] = i;
+        memcpy(m->tri + 3 * (size_t)t++, d->tris + 3 * (size_t)i, 3 * sizeof *m->tri);
+    }
+    warn_dropped(m, dg);
     return TC_OK;
+}
+
+/* The triangles as given (less the degenerate ones, with degenerate "drop"),
+ * or the quads checked and split (quads.c). */
+static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    if (m->nq) {
+        m->ngiven = m->nt;
+        return tc__quads_split(m, d, dg);
+    }
+    int st = TC_OK, drop = d->degenerate == TC_DEGENERATE_DROP;
+    int32_t nbad = 0;
+    uint8_t *bad = drop ? tc__calloc((size_t)d->ntris, sizeof *bad) : NULL;
+    if (drop && !bad) return TC_ENOMEM;
+    for (int32_t t = 0; t < d->ntris; t++) {
+        int degenerate;
+        if (check_triangle(d, t, drop, &degenerate, dg) != TC_OK) st = TC_EINVAL;
+        if (drop && degenerate) bad[t] = 1, nbad++;
+    }
+    if (st == TC_OK) st = keep_triangles(m, d, bad, nbad, dg);
+    free(bad);
+    return st;
+}
+
+int32_t tc__dropped_with_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t a, int32_t b) {
+    for (int32_t i = 0; m->kept && i < m->ngiven; i++) {
+        const int32_t *v = d->tris + 3 * (size_t)i;
+        int has_a = v[0] == a || v[1] == a || v[2] == a, has_b = v[0] == b || v[1] == b || v[2] == b;
+        if (m->kept[i] < 0 && has_a && has_b) return i;
+    }
+    return -1;
 }
 
 static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
@@ -169,6 +245,8 @@ static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     m->nq = d->ntris > 0 ? 0 : d->nquads;
     m->nt = m->nq ? 2 * m->nq : d->ntris;
     m->nc = d->nchan;
+    if (d->degenerate != TC_DEGENERATE_REFUSE && d->degenerate != TC_DEGENERATE_DROP)
+        return tc_diags_add(dg, TC_SEV_ERROR, "degenerate", "unknown degenerate mode %d", (int)d->degenerate);
     if ((st = check_finite_xy(d, dg)) != TC_OK) return st;
     if ((st = copy_geometry(m, d, dg)) != TC_OK) return st;
     if ((st = tc__topology_build(m, dg)) != TC_OK) return st;
@@ -194,6 +272,9 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags) {
 
 int32_t tc_mesh_vertex_count(const tc_mesh *m) { return m->nv; }
 int32_t tc_mesh_triangle_count(const tc_mesh *m) { return m->nt; }
+int32_t tc_mesh_given_triangle_count(const tc_mesh *m) { return m->ngiven; }
+int32_t tc_mesh_triangle_of_given(const tc_mesh *m, int32_t i) { return i >= 0 && i < m->ngiven ? tc__kept(m, i) : -1; }
+int32_t tc_mesh_given_triangle(const tc_mesh *m, int32_t t) { return tc__given(m, t); }
 int tc_mesh_channel_count(const tc_mesh *m) { return m->nc; }
 const double *tc_mesh_xy(const tc_mesh *m) { return m->xy; }
 const int32_t *tc_mesh_triangles(const tc_mesh *m) { return m->tri; }

@@ -9,8 +9,11 @@
  * A quad mesh (nq > 0) is held as its split triangles: quad q = (a, b, c, d)
  * is triangle 2q = (a, b, c) and 2q+1 = (a, c, d), so its diagonal a-c is edge 2
  * of 2q and edge 0 of 2q+1, and both triangles start at a.
+ * Triangles dropped as degenerate are not in tri[]: the others keep their
+ * order, and given[]/kept[] map their indices to the request's and back.
  * Invariants once tc_mesh_new returns TC_OK:
- *  - nq > 0: nt == 2 nq, every quad strictly convex with distinct corners, and
+ *  - nt >= 1; ngiven >= nt, and given == kept == NULL when ngiven == nt;
+ *  - nq > 0: nt == 2 nq, ngiven == nt, every quad strictly convex with distinct corners, and
  *    no quad repeated; the diagonals are interior C1 edges, never flagged;
  *  - every triangle has non-zero area (relative to its edge lengths), distinct
  *    vertices, and appears once;
@@ -26,6 +29,9 @@ struct tc_mesh {
     int32_t *tri;       /* [nt][3] as given */
     int8_t *orient;     /* [nt] +1 counter-clockwise, -1 clockwise */
     double *cz;         /* [nt][3][nc] corner values */
+    int32_t ngiven;     /* triangles as given: nt plus those dropped as degenerate */
+    int32_t *given;     /* [nt] the given index of each triangle, or NULL (none dropped) */
+    int32_t *kept;      /* [ngiven] the triangle of each given index or -1, or NULL */
     int32_t nq;         /* quads as given, or 0 for a mesh given as triangles */
     int32_t *quad;      /* [nq][4] as given, or NULL */
 
@@ -62,6 +68,10 @@ static inline int tc__quad_corner_of(int32_t t, int k) {
     static const int8_t of_second[3] = {0, 2, 3};
     return t % 2 == 0 ? k : of_second[k];
 }
+
+/* The request's index of triangle t, and the triangle of given index i (-1: dropped). */
+static inline int32_t tc__given(const struct tc_mesh *m, int32_t t) { return m->given ? m->given[t] : t; }
+static inline int32_t tc__kept(const struct tc_mesh *m, int32_t i) { return m->kept ? m->kept[i] : i; }
 
 static inline const double *tc__vxy(const struct tc_mesh *m, int32_t v) { return m->xy + 2 * (size_t)v; }
 static inline int32_t tc__cv(const struct tc_mesh *m, int32_t corner) { return m->tri[corner]; }

@@ -49,12 +49,12 @@
 #include "core/recon.h"
 #include "core/wedge.h"
 
-enum { PS_V = 0, PS_NEAR = 3, PS_R = 9, PS_VZ = 12, PS_RZ = 15, PS_Z = 18, PS_ZETA = 19, PS_ALPHA = 22 };
+enum { PS_V = 0, PS_NEAR = 3, PS_R = 9, PS_VZ = 12, PS_RZ = 15, PS_Z = 18, PS_ZETA = TC_PS_ORDINATES, PS_ALPHA = 22 };
 
 /* The ordinate next to V_{k+h} on edge k: midpoint of V_{k+h} and R_k. */
 #define PS_NEAR_OF(k, h) (PS_NEAR + 2 * (k) + (h))
 
-static const char *const ps_labels[TC_PS_COEFS] = {
+const char *const tc__ps_labels[TC_PS_COEFS] = {
     "u",      "v",      "w",      "u:uv",   "v:uv",   "v:vw",     "w:vw",     "w:wu",    "u:wu",
     "uv",     "vw",     "wu",     "u:z",    "v:z",    "w:z",      "z:uv",     "z:vw",    "z:wu",
     "z",      "zeta_u", "zeta_v", "zeta_w", "alpha_uv", "alpha_vw", "alpha_wu"};
@@ -105,11 +105,12 @@ static double split_canonical(const struct tc_mesh *m, int32_t lo, int32_t hi, i
     return (rd * tc + rc * td) / (rc + rd);
 }
 
-/* alpha of edge k of t: the midpoint where the edge is cut (boundary, C-1),
- * else the incenter crossing, computed from the lower-numbered end. */
-static double split_param(const struct tc_mesh *m, int32_t t, int k) {
+/* alpha of edge k of t: the midpoint where the edge is cut (boundary, and the
+ * flags the method honours: C-1), else the incenter crossing, computed from the
+ * lower-numbered end. */
+static double split_param(const struct tc_mesh *m, int honour, int32_t t, int k) {
     int32_t e = 3 * t + k, t2 = m->nbr[e];
-    if (tc__eff_flag(m, TC_HONOR_CM1, e) == TC_CM1) return 0.5;
+    if (tc__eff_flag(m, honour, e) == TC_CM1) return 0.5;
     int32_t a = m->tri[e], b = m->tri[3 * t + (k + 1) % 3], c = m->tri[3 * t + (k + 2) % 3];
     int32_t d = m->tri[3 * t2 + (m->nbr_k[e] + 2) % 3];
     return a < b ? split_canonical(m, a, b, c, d) : 1.0 - split_canonical(m, b, a, c, d);
@@ -117,7 +118,7 @@ static double split_param(const struct tc_mesh *m, int32_t t, int k) {
 
 static int degenerate(const struct tc_mesh *m, int32_t t, const ps_geom *g, tc_diags *dg) {
     char path[48];
-    snprintf(path, sizeof path, "triangles[%d]", (int)t);
+    tc__elem_path(m, t, path, sizeof path);
     for (int i = 0; i < 3; i++)
         if (!(g->zeta[i] >= PS_TINY))
             return tc_diags_add(dg, TC_SEV_ERROR, path,
@@ -134,7 +135,7 @@ static int degenerate(const struct tc_mesh *m, int32_t t, const ps_geom *g, tc_d
 
 /* Local corners, incenter barycentrics and split parameters of triangle t;
  * TC_EINVAL (naming t) if a piece is degenerate. */
-static int geometry(const struct tc_mesh *m, int32_t t, ps_geom *g, tc_diags *dg) {
+static int geometry(const struct tc_mesh *m, int honour, int32_t t, ps_geom *g, tc_diags *dg) {
     const int32_t *v = m->tri + 3 * (size_t)t;
     double len[3], per = 0;
     g->r[0][0] = g->r[0][1] = 0;
@@ -146,7 +147,7 @@ static int geometry(const struct tc_mesh *m, int32_t t, ps_geom *g, tc_diags *dg
         per += len[k] = tc__hypot(e[0], e[1]);
     }
     for (int i = 0; i < 3; i++) g->zeta[i] = len[(i + 1) % 3] / per;
-    for (int k = 0; k < 3; k++) g->alpha[k] = split_param(m, t, k);
+    for (int k = 0; k < 3; k++) g->alpha[k] = split_param(m, honour, t, k);
     return degenerate(m, t, g, dg);
 }
 
@@ -253,7 +254,7 @@ void tc__ps_eval_piece(const double *o, int piece, const double lam[3], const do
  * lam_i / zeta_i (its Z weight is that ratio and the others stay >= 0); in
  * it, the side of the line Z R_k. Corners land on their own piece with
  * barycentrics exactly (1, 0, 0), so the value there is the corner value. */
-static void ps_eval(const double *o, const tc_at *at, double *value, double *grad) {
+void tc__ps_eval(const double *o, const tc_at *at, double *value, double *grad) {
     const double *lam = at->lam, *zeta = o + PS_ZETA;
     int w = 0;
     for (int i = 1; i < 3; i++)
@@ -266,15 +267,6 @@ static void ps_eval(const double *o, const tc_at *at, double *value, double *gra
 }
 
 /* ---- the method ---- */
-
-/* The scheme is C1 across C0 edges: say so once, counting the edges. */
-static void warn_c0(const struct tc_mesh *m, tc_diags *dg) {
-    int32_t n = 0;
-    for (int32_t e = 0; e < 3 * m->nt; e++) n += m->flag[e] == TC_C0 && m->nbr[e] > e / 3;
-    if (n)
-        tc_diags_add(dg, TC_SEV_WARNING, "discontinuities.c0",
-                     "powell-sabin cannot honour C0 flags; they are treated as C1 (%d edges)", (int)n);
-}
 
 /* The range limiter's view of corner i of triangle t: its plane sets the
  * ordinates half way to the split points of its two edges and to Z (the rest
@@ -293,23 +285,20 @@ static int ps_dirs(const void *ctx, int32_t c, double d[TC_PLANE_DIRS_MAX][2]) {
     return 3;
 }
 
+/* A C1 quadratic cannot keep a kink: the method's row honours C-1 only, so
+ * its wedges are cut by C-1 edges and the boundary and corner values stay per
+ * side (recon.c warns about the C0 flags it reads as C1). The split comes
+ * first: the range limiter needs it to know which ordinates a plane sets. */
 int tc__ps_build(struct tc_recon *r, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
-    r->ncoef = TC_PS_COEFS, r->labels = ps_labels, r->eval = ps_eval;
     ps_geom *geo = tc__malloc((size_t)m->nt, sizeof *geo);
     if (!geo) return TC_ENOMEM;
     int st = TC_OK;
     for (int32_t t = 0; t < m->nt && st == TC_OK; t++)
-        if (geometry(m, t, &geo[t], dg) != TC_OK) st = TC_EINVAL;
-    /* Wedges cut by C-1 edges and the boundary only; corner values stay per side. */
+        if (geometry(m, r->method->honour, t, &geo[t], dg) != TC_OK) st = TC_EINVAL;
     tc_plane_use use = {ps_dirs, geo, 0};
-    if (st == TC_OK) st = tc__recon_planes(r, TC_HONOR_CM1, &use, dg);
-    if (st == TC_OK) {
-        r->coef = tc__malloc((size_t)m->nt * m->nc, TC_PS_COEFS * sizeof *r->coef);
-        if (!r->coef) st = TC_ENOMEM;
-    }
+    if (st == TC_OK) st = tc__recon_planes(r, &use, dg);
     for (int32_t t = 0; t < m->nt && st == TC_OK; t++) triangle(r, t, &geo[t]);
     free(geo);
-    if (st == TC_OK) warn_c0(m, dg); /* last, so an error above stays the first finding */
     return st;
 }

@@ -9,7 +9,7 @@
 
 void tc__elem_path(const struct tc_mesh *m, int32_t t, char *buf, size_t n) {
     if (m->nq) snprintf(buf, n, "quads[%d]", (int)(t / 2));
-    else snprintf(buf, n, "triangles[%d]", (int)t);
+    else snprintf(buf, n, "triangles[%d]", (int)tc__given(m, t));
 }
 
 const char *tc__elem_word(const struct tc_mesh *m) { return m->nq ? "quad" : "triangle"; }

@@ -285,16 +285,14 @@ static void draw_line(const tc_viewport *vp, int nc, const float *c, double ax, 
 
 void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, float *values) {
     const struct tc_mesh *m = r->m;
-    int hermite = r->opt.method == TC_METHOD_HERMITE;
-    int honor = r->opt.method == TC_METHOD_CLOUGH_TOCHER || hermite;
+    const tc__method *mt = r->method;
     float c[TC_MAX_CHANNELS];
     double sx = vp->width / (vp->x1 - vp->x0), sy = vp->height / (vp->y1 - vp->y0);
     for (int32_t e = 0; e < 3 * m->nt; e++) {
-        if (m->nbr[e] >= 0 && m->nbr[e] < e / 3) continue; /* each edge once */
-        if (hermite && tc__is_diagonal(m, e)) continue;     /* inside a patch: not an edge of it */
+        if (m->nbr[e] >= 0 && m->nbr[e] < e / 3) continue;       /* each edge once */
+        if (mt->quads_only && tc__is_diagonal(m, e)) continue; /* inside a patch: not an edge of it */
         const double *a = tc__vxy(m, m->tri[e]), *b = tc__vxy(m, m->tri[3 * (e / 3) + (e % 3 + 1) % 3]);
-        int boundary = m->nbr[e] < 0;
-        overlay_colour(honor ? (tc_continuity)m->flag[e] : TC_C1, boundary, m->nc, scale, c);
+        overlay_colour((tc_continuity)tc__method_edge(mt, m, e), m->nbr[e] < 0, m->nc, scale, c);
         draw_line(vp, m->nc, c, (a[0] - vp->x0) * sx - 0.5, (vp->y1 - a[1]) * sy - 0.5, (b[0] - vp->x0) * sx - 0.5,
                   (vp->y1 - b[1]) * sy - 0.5, values);
     }

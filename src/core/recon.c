@@ -1,6 +1,6 @@
-/* recon.c — tc_recon: one reconstruction of a mesh. Runs the pipeline a method
- * needs (wedges -> tangent planes -> ordinates for the cubic methods) and keeps
- * only the coefficients and the corner planes; everything else is scratch. */
+/* recon.c — tc_recon: one reconstruction of a mesh. Runs the build of the
+ * method's row (method.c) — for the cubics wedges -> tangent planes -> ordinates —
+ * and keeps only the coefficients and the corner planes; the rest is scratch. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -56,12 +56,12 @@ static void ct_scratch_free(ct_scratch *s) {
     free(s->wp);
 }
 
-/* Wedges delimited per `honor` (TC_HONOR_*) -> corner inputs -> wedge planes;
- * fills r->cgrad and leaves the intermediate steps in s. */
-static int ct_planes(struct tc_recon *r, int honor, ct_scratch *s, tc_diags *dg) {
+/* Wedges delimited per the method's honour (TC_HONOR_*) -> corner inputs ->
+ * wedge planes; fills r->cgrad and leaves the intermediate steps in s. */
+static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
     size_t stride = 2 * (size_t)m->nc;
-    int st = tc__wedges_build(m, honor, &s->ws);
+    int st = tc__wedges_build(m, r->method->honour, &s->ws);
     if (st != TC_OK) return st;
     s->cz_own = merged_values(m, &s->ws, &st);
     if (st != TC_OK) return st;
@@ -90,20 +90,19 @@ static int limit_planes(struct tc_recon *r, const ct_scratch *s, const tc_plane_
     return rc;
 }
 
-int tc__recon_planes(struct tc_recon *r, int honor, const tc_plane_use *use, tc_diags *dg) {
+int tc__recon_planes(struct tc_recon *r, const tc_plane_use *use, tc_diags *dg) {
     ct_scratch s;
     memset(&s, 0, sizeof s);
-    int st = ct_planes(r, honor, &s, dg);
+    int st = ct_planes(r, &s, dg);
     if (st == TC_OK && use && use->dirs && r->opt.range != TC_RANGE_FREE) st = limit_planes(r, &s, use, dg);
     ct_scratch_free(&s);
     return st;
 }
 
-static int build_ct(struct tc_recon *r, tc_diags *dg) {
+int tc__ct_build(struct tc_recon *r, tc_diags *dg) {
     ct_scratch s;
     memset(&s, 0, sizeof s);
-    int honor = r->opt.method == TC_METHOD_CLOUGH_TOCHER ? TC_HONOR_ALL : TC_HONOR_NONE;
-    int st = ct_planes(r, honor, &s, dg);
+    int st = ct_planes(r, &s, dg);
     if (st == TC_OK) {
         tc_ct_input x = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->cgrad, s.in,
                          r->opt.cross_boundary, r->opt.wedges,
@@ -137,48 +136,32 @@ static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
     return TC_OK;
 }
 
-static int build(struct tc_recon *r, tc_diags *dg) {
+/* A method that keeps C-1 but not C0 flags reads them as C1: say so once,
+ * counting the edges, after the build (so an error stays the first finding). */
+static void warn_c0_ignored(const struct tc_recon *r, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
-    switch (r->opt.method) {
-    case TC_METHOD_CONSTANT: r->ncoef = 1, r->labels = tc__constant_labels, r->eval = tc__constant_eval; break;
-    case TC_METHOD_LINEAR: r->ncoef = 3, r->labels = tc__linear_labels, r->eval = tc__linear_eval; break;
-    case TC_METHOD_LINEAR4: r->ncoef = 6, r->labels = tc__linear4_labels, r->eval = tc__linear4_eval; break;
-    case TC_METHOD_CLOUGH_TOCHER:
-    case TC_METHOD_CLOUGH_TOCHER_C1:
-        r->ncoef = TC_CT_ORDINATES, r->labels = tc__ct_labels, r->eval = tc__ct_eval;
-        break;
-    case TC_METHOD_POWELL_SABIN: {
-        int st = tc__ps_build(r, dg);
-        return st == TC_OK ? check_bounded(r, dg) : st;
-    }
-    case TC_METHOD_HERMITE: {
-        int st = tc__hermite_build(r, dg);
-        return st == TC_OK ? check_bounded(r, dg) : st;
-    }
-    default: return tc_diags_add(dg, TC_SEV_ERROR, "method", "unknown method %d", (int)r->opt.method);
-    }
-    r->coef = tc__malloc((size_t)m->nt * m->nc, (size_t)r->ncoef * sizeof *r->coef);
-    if (!r->coef) return TC_ENOMEM;
-    int st = TC_OK;
-    switch (r->opt.method) {
-    case TC_METHOD_CONSTANT: tc__constant_build(m, r->coef); break;
-    case TC_METHOD_LINEAR: tc__linear_build(m, r->coef); break;
-    case TC_METHOD_LINEAR4: tc__linear4_build(m, r->coef, dg); break;
-    default: st = build_ct(r, dg);
-    }
-    return st == TC_OK ? check_bounded(r, dg) : st;
+    int32_t n = 0;
+    if (r->method->honour != TC_HONOR_CM1) return;
+    for (int32_t e = 0; e < 3 * m->nt; e++) n += m->flag[e] == TC_C0 && m->nbr[e] > e / 3;
+    if (n)
+        tc_diags_add(dg, TC_SEV_WARNING, "discontinuities.c0", "%s cannot honour C0 flags; they are treated as C1 (%d edges)",
+                     r->method->name, (int)n);
 }
 
-/* How many of a method's coefficients are Bézier ordinates (the rest, if
- * any, are geometry); 0 for the methods that cannot leave their data's range. */
-static int ordinate_count(const struct tc_recon *r) {
-    switch (r->opt.method) {
-    case TC_METHOD_CLOUGH_TOCHER:
-    case TC_METHOD_CLOUGH_TOCHER_C1:
-    case TC_METHOD_POWELL_SABIN: return TC_CT_ORDINATES;
-    case TC_METHOD_HERMITE: return 16;
-    default: return 0;
-    }
+static int build(struct tc_recon *r, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
+    const tc__method *mt = tc__method_of(r->opt.method);
+    if (!mt) return tc_diags_add(dg, TC_SEV_ERROR, "method", "unknown method %d", (int)r->opt.method);
+    if (mt->quads_only && m->nq == 0)
+        return tc_diags_add(dg, TC_SEV_ERROR, "triangles", "%s needs quads: give the mesh as \"quads\": [[a, b, c, d], ...]",
+                            mt->name);
+    r->method = mt, r->ncoef = mt->ncoef, r->labels = mt->labels, r->eval = mt->eval;
+    r->coef = tc__malloc((size_t)m->nt * m->nc, (size_t)r->ncoef * sizeof *r->coef);
+    if (!r->coef) return TC_ENOMEM;
+    int st = mt->build(r, dg);
+    if (st == TC_OK) st = check_bounded(r, dg);
+    if (st == TC_OK) warn_c0_ignored(r, dg);
+    return st;
 }
 
 /* A method that formats "triangles[t]" itself on a quad mesh would name an
@@ -203,7 +186,8 @@ int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags
     else tc_options_default(&r->opt);
     int from = diags ? diags->count : 0;
     int st = build(r, diags);
-    if (st == TC_OK && r->opt.range == TC_RANGE_FREE) tc__range_report_free(r, ordinate_count(r), diags);
+    if (st == TC_OK && r->opt.range == TC_RANGE_FREE && r->method->ordinates)
+        tc__range_report_free(r, r->method->ordinates, diags);
     quad_paths(m, diags, from);
     if (st != TC_OK) {
         tc_recon_free(r);

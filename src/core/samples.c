@@ -1,6 +1,7 @@
 /* samples.c — the data a front-end measured, spread onto triangle corners:
  * corner values (vertex values with sparse overrides), given tangent planes
- * (gradients or normals, per vertex or per corner) and edge-midpoint samples. */
+ * (gradients or normals, per vertex or per corner) and edge-midpoint samples;
+ * then those that must agree across C0/C1 edges are made to (agree.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -10,9 +11,10 @@
 /* Per-corner entries name elements: triangles (3 corners), or on a quad mesh
  * quads (4 corners, each landing on one or two split-triangle corners). */
 static int elem_corners(const struct tc_mesh *m) { return m->nq ? 4 : 3; }
-static int32_t elem_count(const struct tc_mesh *m) { return m->nq ? m->nq : m->nt; }
+static int32_t elem_count(const struct tc_mesh *m) { return m->nq ? m->nq : m->ngiven; }
 
-/* The corner ids (3t+k) where corner k of element e lands; returns 1 or 2. */
+/* The corner ids (3t+k) where corner k of element e lands; returns 1 or 2.
+ * e is a quad, or a triangle of the mesh (not a given index: see kept_elem). */
 static int landing(const struct tc_mesh *m, int32_t e, int k, int32_t out[2]) {
     if (m->nq) return tc__quad_corners(e, k, out);
     out[0] = 3 * e + k;
@@ -29,11 +31,25 @@ static int check_elem(const struct tc_mesh *m, const char *field, int32_t i, int
     return tc_diags_add(dg, TC_SEV_ERROR, path, "%s index %d out of range (%d %ss)", w, (int)e, (int)elem_count(m), w);
 }
 
-/* Scratch shared by the steps: which corner_values entry set each corner
- * (for error paths) and the value scale of each channel (for tolerances). */
+/* Entry i of `field` names element *e (in range): a triangle's given index
+ * becomes the mesh's. Returns 0 if that triangle was dropped as degenerate,
+ * after a warning that the entry is ignored. */
+static int kept_elem(const struct tc_mesh *m, const char *field, int32_t i, int32_t *e, tc_diags *dg) {
+    if (m->nq || tc__kept(m, *e) >= 0) {
+        if (!m->nq) *e = tc__kept(m, *e);
+        return 1;
+    }
+    char path[64];
+    snprintf(path, sizeof path, "%s[%d].triangle", field, (int)i);
+    tc_diags_add(dg, TC_SEV_WARNING, path, "triangle %d was dropped as degenerate: this entry is ignored", (int)*e);
+    return 0;
+}
+
+/* Scratch shared by the steps: which corner_values entry set each corner and
+ * which midpoints entry each edge side (for the paths of agreement errors). */
 typedef struct {
-    int32_t *cv_src; /* [3nt] or NULL */
-    double scale[TC_MAX_CHANNELS];
+    int32_t *cv_src;  /* [3nt] or NULL */
+    int32_t *mid_src; /* [3nt] or NULL */
 } scratch;
 
 static int all_finite(const double *x, size_t n) {
@@ -90,6 +106,7 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
             st = TC_EINVAL;
             continue;
         }
+        if (!kept_elem(m, "corner_values", i, &e, dg)) continue;
         landing(m, e, 0, c0); /* every element's corner 0 lands on its own first triangle */
         if (s->cv_src[c0[0]] >= 0) {
             snprintf(path, sizeof path, "corner_values[%d].%s", (int)i, tc__elem_word(m));
@@ -205,6 +222,7 @@ static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
             continue;
         }
         seen[e] = i;
+        if (!kept_elem(m, "corner_gradients", i, &e, dg)) continue;
         for (int k = 0; k < elem_corners(m); k++)
             if (put_corner_gradient(m, d, i, e, k, dg) != TC_OK) st = TC_EINVAL;
     }
@@ -248,8 +266,10 @@ static int put_named(struct tc_mesh *m, int32_t *src, int32_t e, int32_t a, int3
                      tc_diags *dg) {
     char path[64];
     int st = TC_OK, found = 0;
+    int32_t k = e, halves = e >= elem_count(m) ? 0 : m->nq ? 2 : 1; /* past the end: none */
+    if (halves && !kept_elem(m, "midpoints", i, &k, dg)) return TC_OK;
     snprintf(path, sizeof path, "midpoints[%d]", (int)i);
-    int32_t first = m->nq ? 2 * e : e, halves = e >= elem_count(m) ? 0 : m->nq ? 2 : 1; /* past the end: none */
+    int32_t first = m->nq ? 2 * k : k;
     for (int32_t t = first; t < first + halves; t++) {
         int32_t c = side_in(m, t, a, b);
         if (c < 0) continue;
@@ -262,6 +282,19 @@ static int put_named(struct tc_mesh *m, int32_t *src, int32_t e, int32_t a, int3
                         (int)b);
 }
 
+/* Sample i is on an edge only dropped triangles had: ignored, with a warning. */
+static int dropped_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t a, int32_t b,
+                        tc_diags *dg) {
+    int32_t t = a == b ? -1 : tc__dropped_with_edge(m, d, a, b);
+    if (t < 0) return 0;
+    char path[64];
+    snprintf(path, sizeof path, "midpoints[%d].edge", (int)i);
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "[%d, %d] is an edge only of triangles dropped as degenerate (triangles[%d]): sample ignored", (int)a,
+                 (int)b, (int)t);
+    return 1;
+}
+
 static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t *src, tc_diags *dg) {
     int32_t a = d->midpoint_edge[2 * (size_t)i], b = d->midpoint_edge[2 * (size_t)i + 1];
     int32_t t = d->midpoint_tri ? d->midpoint_tri[i] : -1;
@@ -272,6 +305,7 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
         return tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index out of range in [%d, %d] (%d vertices)", (int)a,
                             (int)b, (int)m->nv);
     int32_t c = a == b ? -1 : tc__find_edge(m, a, b);
+    if (c < 0 && dropped_edge(m, d, i, a, b, dg)) return TC_OK;
     if (c < 0) return tc_diags_add(dg, TC_SEV_ERROR, path, "[%d, %d] is not an edge of the mesh", (int)a, (int)b);
     snprintf(path, sizeof path, "midpoints[%d].value", (int)i);
     if (check_finite(z, (size_t)m->nc, path, dg) != TC_OK) return TC_EINVAL;
@@ -284,66 +318,17 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
     return st;
 }
 
-static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
     if (d->nmidpoints == 0) return TC_OK;
     size_t nc = 3 * (size_t)m->nt;
     m->mid = tc__calloc(nc * m->nc, sizeof *m->mid);
     m->mid_has = tc__calloc(nc, sizeof *m->mid_has);
-    int32_t *src = tc__malloc(nc, sizeof *src);
-    int st = TC_ENOMEM;
-    if (m->mid && m->mid_has && src) {
-        st = TC_OK;
-        for (size_t c = 0; c < nc; c++) src[c] = -1;
-        for (int32_t i = 0; i < d->nmidpoints; i++)
-            if (midpoint(m, d, i, src, dg) != TC_OK) st = TC_EINVAL;
-    }
-    free(src);
-    return st;
-}
-
-static void channel_scales(const struct tc_mesh *m, scratch *s) {
-    for (int ch = 0; ch < m->nc; ch++) s->scale[ch] = 0;
-    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
-        for (int ch = 0; ch < m->nc; ch++) {
-            double a = fabs(m->cz[c * m->nc + ch]);
-            if (a > s->scale[ch]) s->scale[ch] = a;
-        }
-}
-
-/* Values agree across a C0/C1 edge: at both of its ends, within 1e-12 of the
- * channel's value scale (exact for values that were not overridden). */
-static int check_edge_values(const struct tc_mesh *m, const scratch *s, size_t c, tc_diags *dg) {
-    int32_t t = (int32_t)(c / 3), k = (int32_t)(c % 3), t2 = m->nbr[c];
-    for (int e = 0; e < 2; e++) {
-        size_t ca = 3 * (size_t)t + (size_t)(k + e) % 3;
-        int32_t v = m->tri[ca];
-        size_t cb = 3 * (size_t)t2 + (size_t)tc__corner_of(m, t2, v);
-        for (int ch = 0; ch < m->nc; ch++) {
-            double za = m->cz[ca * m->nc + ch], zb = m->cz[cb * m->nc + ch];
-            if (fabs(za - zb) <= 1e-12 * s->scale[ch]) continue;
-            char path[48];
-            const char *w = tc__elem_word(m);
-            int32_t src = s->cv_src ? (s->cv_src[cb] >= 0 ? s->cv_src[cb] : s->cv_src[ca]) : -1;
-            if (src >= 0) snprintf(path, sizeof path, "corner_values[%d]", (int)src);
-            else tc__elem_path(m, t2, path, sizeof path);
-            return tc_diags_add(dg, TC_SEV_ERROR, path,
-                                "values disagree across %s edge [%d, %d] at vertex %d: %.17g (%s %d) vs %.17g "
-                                "(%s %d); flag the edge c-1 or give equal values",
-                                m->flag[c] == TC_C0 ? "the C0" : "the C1", (int)m->tri[c],
-                                (int)m->tri[3 * (size_t)t + (size_t)(k + 1) % 3], (int)v, za, w,
-                                (int)tc__elem_index(m, t), zb, w, (int)tc__elem_index(m, t2));
-        }
-    }
-    return TC_OK;
-}
-
-static int check_agreement(const struct tc_mesh *m, const scratch *s, tc_diags *dg) {
+    int32_t *src = s->mid_src = tc__malloc(nc, sizeof *src);
+    if (!m->mid || !m->mid_has || !src) return TC_ENOMEM;
     int st = TC_OK;
-    for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-        int32_t t2 = m->nbr[c];
-        if (t2 < (int32_t)(c / 3) || m->flag[c] == TC_CM1) continue; /* each interior edge once */
-        if (check_edge_values(m, s, c, dg) != TC_OK) st = TC_EINVAL;
-    }
+    for (size_t c = 0; c < nc; c++) src[c] = -1;
+    for (int32_t i = 0; i < d->nmidpoints; i++)
+        if (midpoint(m, d, i, src, dg) != TC_OK) st = TC_EINVAL;
     return st;
 }
 
@@ -376,11 +361,9 @@ int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     int st = corner_values(m, d, &s, dg);
     if (st == TC_OK) st = gradients(m, d, dg);
     if (st == TC_OK) st = hessians(m, d, dg);
-    if (st == TC_OK) st = midpoints(m, d, dg);
-    if (st == TC_OK) {
-        channel_scales(m, &s);
-        if (m->ncorner_overrides) st = check_agreement(m, &s, dg);
-    }
+    if (st == TC_OK) st = midpoints(m, d, &s, dg);
+    if (st == TC_OK) st = tc__values_agree(m, d->value_tolerance, s.cv_src, s.mid_src, dg);
     free(s.cv_src);
+    free(s.mid_src);
     return st;
 }

@@ -123,6 +123,7 @@ int32_t tc__find_edge(const struct tc_mesh *m, int32_t a, int32_t b) {
 /* ---- continuity flags from polylines ---- */
 
 typedef struct {
+    const tc_mesh_desc *d;
     const char *name;   /* "c0" or "c-1" */
     tc_continuity kind;
     int32_t *src;       /* [3nt] polyline that flagged each edge side, or -1 */
@@ -135,7 +136,11 @@ static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j
     snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)line, (int)j);
     if (p == q)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] repeats a vertex", (int)p, (int)q);
-    int32_t c = tc__find_edge(m, p, q);
+    int32_t c = tc__find_edge(m, p, q), dropped = c < 0 ? tc__dropped_with_edge(m, fc->d, p, q) : -1;
+    if (dropped >= 0) /* nothing left to flag: the edge went with the triangle */
+        return tc_diags_add(dg, TC_SEV_WARNING, path,
+                            "segment [%d, %d] is an edge only of triangles dropped as degenerate (triangles[%d]): "
+                            "ignored", (int)p, (int)q, (int)dropped);
     if (c < 0)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] is not an edge of the mesh", (int)p,
                             (int)q);
@@ -186,6 +191,7 @@ int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     if (d->c0.count == 0 && d->cm1.count == 0) return TC_OK;
     size_t nc = 3 * (size_t)m->nt;
     flag_ctx fc = {0};
+    fc.d = d;
     fc.src = tc__malloc(nc, sizeof *fc.src);
     fc.src_kind = tc__malloc(nc, sizeof *fc.src_kind);
     int st = TC_ENOMEM;

@@ -350,9 +350,6 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
 }
 
 int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
-    static const tc_method every[] = {TC_METHOD_CLOUGH_TOCHER, TC_METHOD_CLOUGH_TOCHER_C1, TC_METHOD_LINEAR,
-                                      TC_METHOD_LINEAR4, TC_METHOD_CONSTANT, TC_METHOD_POWELL_SABIN,
-                                      TC_METHOD_HERMITE};
     double t0 = tc_api_now_ms();
     job j = {0};
     int rs = tc_request_parse(body, len, TC_REQ_MESH | TC_REQ_REFERENCE, &j.req, &res->diags);
@@ -367,11 +364,11 @@ int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_st
         tc_strbuf_init(&b);
         tc_strbuf_printf(&b, "{\"channels\":%d,\"reference_points\":%zu,\"results\":[", j.req->desc.nchan,
                          j.req->nreference);
-        int n = j.req->nmethods ? j.req->nmethods : (int)(sizeof every / sizeof every[0]);
+        int n = j.req->nmethods ? j.req->nmethods : tc_method_count(); /* default: every method */
         for (int i = 0; i < n; i++) {
             tc_options o = j.req->opt;
             if (j.req->nmethods) o = j.req->methods[i];
-            else o.method = every[i];
+            else o.method = (tc_method)i;
             if (i) tc_strbuf_putc(&b, ',');
             compare_one(&j, L, &o, &b, res, &t0);
         }

@@ -1,6 +1,7 @@
 /* jsonout.c — JSON output primitives shared by the response writers, the
  * request writer and /v1/compare; numbers go through the exact printer. */
 #include "io/jsonout.h"
+#include "io/options.h"
 
 void tc_json_key(tc_strbuf *b, const char *sep, const char *name) {
     if (b->len && b->buf[b->len - 1] != '{') tc_strbuf_puts(b, sep);
@@ -27,27 +28,6 @@ void tc_json_ints(tc_strbuf *b, const int32_t *x, int n) {
 }
 
 void tc_json_options(tc_strbuf *b, const tc_options *o) {
-    tc_json_key(b, ",", "method");
-    tc_strbuf_json_string(b, tc_method_name(o->method));
-    /* Only the options the method reads: the cubics have a cross-boundary rule,
-     * hermite a twist, powell-sabin neither; all three have tangent planes. */
-    int cubic = o->method == TC_METHOD_CLOUGH_TOCHER || o->method == TC_METHOD_CLOUGH_TOCHER_C1;
-    int hermite = o->method == TC_METHOD_HERMITE, ps = o->method == TC_METHOD_POWELL_SABIN;
-    if (!cubic && !hermite && !ps) return;
-    if (cubic) {
-        tc_json_key(b, ",", "cross_boundary");
-        tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
-    }
-    if (hermite) {
-        tc_json_key(b, ",", "twist");
-        tc_strbuf_json_string(b, tc_twist_name(o->twist));
-    }
-    if (!ps) {
-        tc_json_key(b, ",", "wedges");
-        tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
-    }
-    tc_json_key(b, ",", "tangents");
-    tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
-    tc_json_key(b, ",", "average");
-    tc_strbuf_json_string(b, tc_average_name(o->average));
+    for (int i = 0; i < tc_nopts; i++) /* the method, then only the options it reads */
+        if (tc_opt_read_by(&tc_opts[i], o->method)) tc_opt_write(b, ",", &tc_opts[i], o);
 }

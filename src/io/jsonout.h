@@ -13,8 +13,8 @@ void tc_json_key(tc_strbuf *b, const char *sep, const char *name);
 /* [x0,x1,...] with every double exact. */
 void tc_json_numbers(tc_strbuf *b, const double *x, int n);
 void tc_json_ints(tc_strbuf *b, const int32_t *x, int n);
-/* "method", and for the cubic methods "cross_boundary", "wedges", "tangents",
- * as members of the object being written. */
+/* "method" and the options it reads (io/options.c, tc_method_reads), as
+ * members of the object being written. */
 void tc_json_options(tc_strbuf *b, const tc_options *o);
 
 #endif

@@ -10,6 +10,7 @@
 #include <cJSON.h>
 
 #include "image/image.h"
+#include "io/options.h"
 #include "io/request.h"
 
 #if defined(__GNUC__)
@@ -355,40 +356,59 @@ static int edit_distance(const char *a, const char *b) {
     return row[lb];
 }
 
-static void warn_unknown(reader *rd, const jpath *p, const char *name, const field *fields,
-                         int nf) {
+/* Objects that take the options (the request, each of /v1/compare's
+ * "methods") know the names of fields[nf] and then of every row of the
+ * options table: slot nf + j is row j (io/options.c). */
+static int member_slot(const field *fields, int nf, int with_opts, const char *name) {
+    int i = field_index(fields, nf, name);
+    const tc_opt *o = with_opts && i < 0 ? tc_opt_find(name) : NULL;
+    return o ? nf + (int)(o - tc_opts) : i;
+}
+
+static const char *slot_name(const field *fields, int nf, int slot) {
+    return slot < nf ? fields[slot].name : tc_opts[slot - nf].name;
+}
+
+static void warn_unknown(reader *rd, const jpath *p, const char *name, const field *fields, int nf, int with_opts) {
     int best = -1, best_d = 3; /* suggest only names within 2 edits */
-    for (int i = 0; i < nf; i++) {
-        int d = edit_distance(name, fields[i].name);
-        if (d < best_d && d < (int)strlen(fields[i].name)) best = i, best_d = d;
+    for (int i = 0; i < nf + (with_opts ? tc_nopts : 0); i++) {
+        const char *known = slot_name(fields, nf, i);
+        int d = edit_distance(name, known);
+        if (d < best_d && d < (int)strlen(known)) best = i, best_d = d;
     }
     if (best >= 0)
-        warning(rd, p, "unknown field '%.60s' ignored (did you mean '%s'?)", name, fields[best].name);
+        warning(rd, p, "unknown field '%.60s' ignored (did you mean '%s'?)", name, slot_name(fields, nf, best));
     else
         warning(rd, p, "unknown field '%.60s' ignored", name);
 }
 
-/* Sorts the members of obj into found[nf] by fields[]: unknown names warn, a
- * name given twice is a shape error. what describes obj for a type error. */
-static int read_members(reader *rd, const cJSON *obj, const jpath *p, const field *fields, int nf,
+/* Sorts the members of obj into found[nf] by fields[] (and, with_opts, the
+ * options into found[nf .. nf + tc_nopts)): unknown names warn, a name given
+ * twice is a shape error. what describes obj for a type error. */
+static int sort_members(reader *rd, const cJSON *obj, const jpath *p, const field *fields, int nf, int with_opts,
                         const cJSON **found, const char *what) {
     if (!is_type(obj, cJSON_Object)) {
         shape_error(rd, p, "expected %s, got %s", what, kind_of(obj));
         return -1;
     }
-    for (int i = 0; i < nf; i++) found[i] = NULL;
+    for (int i = 0; i < nf + (with_opts ? tc_nopts : 0); i++) found[i] = NULL;
     for (const cJSON *m = obj->child; m; m = m->next) {
         const char *name = m->string ? m->string : "";
         jpath pm = key_path(p, name);
-        int i = field_index(fields, nf, name);
+        int i = member_slot(fields, nf, with_opts, name);
         if (i < 0)
-            warn_unknown(rd, &pm, name, fields, nf);
+            warn_unknown(rd, &pm, name, fields, nf, with_opts);
         else if (found[i])
             shape_error(rd, &pm, "field '%s' given more than once", name);
         else
             found[i] = m;
     }
     return 0;
+}
+
+static int read_members(reader *rd, const cJSON *obj, const jpath *p, const field *fields, int nf,
+                        const cJSON **found, const char *what) {
+    return sort_members(rd, obj, p, fields, nf, 0, found, what);
 }
 
 /* A required integer member of an object entry (e.g. corner_values[2].triangle). */
@@ -806,83 +826,40 @@ static void parse_discontinuities(reader *rd, const cJSON *v, const jpath *p) {
     }
 }
 
-/* ---- fields: options -------------------------------------------------------------- */
+/* ---- fields: options (the table in io/options.c) ------------------------------------ */
 
-/* The tc_*_parse / tc_*_name pairs seen through int, so one reader serves all. */
-typedef int (*name_parse_fn)(const char *s, int *out);
-typedef const char *(*name_of_fn)(int v);
-
-#define NAME_ADAPTERS(kind, type)                                          \
-    static int kind##_parse_int(const char *s, int *out) {                 \
-        type t;                                                            \
-        if (tc_##kind##_parse(s, &t)) return -1;                           \
-        *out = (int)t;                                                     \
-        return 0;                                                          \
-    }                                                                      \
-    static const char *kind##_name_int(int v) { return tc_##kind##_name((type)v); }
-NAME_ADAPTERS(method, tc_method)
-NAME_ADAPTERS(cross, tc_cross)
-NAME_ADAPTERS(wedges, tc_wedges)
-NAME_ADAPTERS(tangents, tc_tangents)
-NAME_ADAPTERS(twist, tc_twist)
-NAME_ADAPTERS(average, tc_average)
-
-/* "a, b, c": every name the enum knows (values are dense from 0). */
-static void list_names(name_of_fn name_of, char *buf, size_t cap) {
-    size_t n = 0;
-    buf[0] = '\0';
-    for (int v = 0; v < 64 && name_of(v); v++) {
-        int w = snprintf(buf + n, cap - n, "%s%s", v ? ", " : "", name_of(v));
-        if (w < 0 || (size_t)w >= cap - n) break;
-        n += (size_t)w;
+/* One option's value into its field: o's for a reconstruction option, the
+ * request's mesh description for a mesh option. */
+static void read_option(reader *rd, const tc_opt *row, const cJSON *v, const jpath *p, tc_options *o) {
+    void *obj = tc_opt_object(row, o, &rd->r->desc);
+    char accepts[160], num[32];
+    tc_opt_accepts(row, accepts, sizeof accepts);
+    if (row->kind == TC_OPT_NUMBER) {
+        double x;
+        if (read_number(rd, v, p, &x)) return;
+        if (!(x >= row->min && x <= row->max))
+            value_error(rd, p, "%s must be %s, got %s", row->name, accepts, format_number(x, num, sizeof num));
+        else
+            tc_opt_set_number(row, obj, x);
+        return;
     }
-}
-
-static int read_name(reader *rd, const cJSON *v, const jpath *p, name_parse_fn parse,
-                     name_of_fn name_of, int *out) {
-    char names[160];
-    list_names(name_of, names, sizeof names);
     if (!is_type(v, cJSON_String) || !v->valuestring) {
-        shape_error(rd, p, "expected a string (one of: %s), got %s", names, kind_of(v));
-        return -1;
+        shape_error(rd, p, "expected a string (one of: %s), got %s", accepts, kind_of(v));
+        return;
     }
-    if (parse(v->valuestring, out)) {
-        value_error(rd, p, "unknown %s '%.40s'; expected one of: %s", p->key, v->valuestring, names);
-        return -1;
+    int x = tc_opt_parse_name(row, v->valuestring);
+    if (x < 0) value_error(rd, p, "unknown %s '%.40s'; expected one of: %s", row->name, v->valuestring, accepts);
+    else tc_opt_set_enum(row, obj, x);
+}
+
+/* The options found at the top level (found[j] for row j): the request's own,
+ * and the defaults of each entry of "methods". */
+static void read_options(reader *rd, const cJSON *const *found) {
+    for (int j = 0; j < tc_nopts; j++) {
+        if (!found[j]) continue;
+        jpath p = key_path(NULL, tc_opts[j].name);
+        read_option(rd, &tc_opts[j], found[j], &p, &rd->r->opt);
     }
-    return 0;
-}
-
-static void parse_method(reader *rd, const cJSON *v, const jpath *p) {
-    int x;
-    if (!read_name(rd, v, p, method_parse_int, method_name_int, &x)) rd->r->opt.method = (tc_method)x;
-}
-
-static void parse_cross(reader *rd, const cJSON *v, const jpath *p) {
-    int x;
-    if (!read_name(rd, v, p, cross_parse_int, cross_name_int, &x))
-        rd->r->opt.cross_boundary = (tc_cross)x;
-}
-
-static void parse_wedges(reader *rd, const cJSON *v, const jpath *p) {
-    int x;
-    if (!read_name(rd, v, p, wedges_parse_int, wedges_name_int, &x)) rd->r->opt.wedges = (tc_wedges)x;
-}
-
-static void parse_tangents(reader *rd, const cJSON *v, const jpath *p) {
-    int x;
-    if (!read_name(rd, v, p, tangents_parse_int, tangents_name_int, &x))
-        rd->r->opt.tangents = (tc_tangents)x;
-}
-
-static void parse_average(reader *rd, const cJSON *v, const jpath *p) {
-    int x;
-    if (!read_name(rd, v, p, average_parse_int, average_name_int, &x)) rd->r->opt.average = (tc_average)x;
-}
-
-static void parse_twist(reader *rd, const cJSON *v, const jpath *p) {
-    int x;
-    if (!read_name(rd, v, p, twist_parse_int, twist_name_int, &x)) rd->r->opt.twist = (tc_twist)x;
 }
 
 static int read_bool(reader *rd, const cJSON *v, const jpath *p, int *out) {
@@ -1019,39 +996,26 @@ static void parse_reference(reader *rd, const cJSON *v, const jpath *p) {
         value_error(rd, &ps, "scale must be positive, got %g", rd->r->reference_scale);
 }
 
-static const field method_fields[] = {{"method", NULL, 0, ""},   {"cross_boundary", NULL, 0, ""},
-                                     {"wedges", NULL, 0, ""},   {"tangents", NULL, 0, ""},
-                                     {"twist", NULL, 0, ""},    {"average", NULL, 0, ""}};
-enum { MF_METHOD, MF_CROSS, MF_WEDGES, MF_TANGENTS, MF_TWIST, MF_AVERAGE, MF_NFIELDS };
-
 /* One entry of "methods": a method name, or an object of options (the
- * request's own options are the defaults for the fields it leaves out). */
+ * request's own options are the defaults for the fields it leaves out). A
+ * mesh option there would mean another mesh: it is ignored with a warning. */
 static void read_method(reader *rd, const cJSON *e, const jpath *p, tc_options *o) {
-    int x;
     *o = rd->r->opt;
     if (is_type(e, cJSON_String)) {
-        if (!read_name(rd, e, p, method_parse_int, method_name_int, &x)) o->method = (tc_method)x;
+        read_option(rd, tc_opt_find("method"), e, p, o);
         return;
     }
-    const cJSON *found[MF_NFIELDS];
-    if (read_members(rd, e, p, method_fields, MF_NFIELDS, found, "a method name or an object {method, ...}"))
-        return;
-    jpath pk[MF_NFIELDS];
-    for (int i = 0; i < MF_NFIELDS; i++) pk[i] = key_path(p, method_fields[i].name);
-    if (found[MF_METHOD] && !read_name(rd, found[MF_METHOD], &pk[MF_METHOD], method_parse_int, method_name_int, &x))
-        o->method = (tc_method)x;
-    if (found[MF_CROSS] && !read_name(rd, found[MF_CROSS], &pk[MF_CROSS], cross_parse_int, cross_name_int, &x))
-        o->cross_boundary = (tc_cross)x;
-    if (found[MF_WEDGES] && !read_name(rd, found[MF_WEDGES], &pk[MF_WEDGES], wedges_parse_int, wedges_name_int, &x))
-        o->wedges = (tc_wedges)x;
-    if (found[MF_TANGENTS] &&
-        !read_name(rd, found[MF_TANGENTS], &pk[MF_TANGENTS], tangents_parse_int, tangents_name_int, &x))
-        o->tangents = (tc_tangents)x;
-    if (found[MF_TWIST] && !read_name(rd, found[MF_TWIST], &pk[MF_TWIST], twist_parse_int, twist_name_int, &x))
-        o->twist = (tc_twist)x;
-    if (found[MF_AVERAGE] &&
-        !read_name(rd, found[MF_AVERAGE], &pk[MF_AVERAGE], average_parse_int, average_name_int, &x))
-        o->average = (tc_average)x;
+    const cJSON *found[TC_OPT_MAX];
+    if (sort_members(rd, e, p, NULL, 0, 1, found, "a method name or an object {method, ...}")) return;
+    for (int j = 0; j < tc_nopts; j++) {
+        if (!found[j]) continue;
+        jpath pj = key_path(p, tc_opts[j].name);
+        if (tc_opts[j].target == TC_OPT_MESH)
+            warning(rd, &pj, "'%s' applies to the mesh, which every method shares: give it at the top level (ignored "
+                    "here)", tc_opts[j].name);
+        else
+            read_option(rd, &tc_opts[j], found[j], &pj, o);
+    }
 }
 
 static void parse_methods(reader *rd, const cJSON *v, const jpath *p) {
@@ -1079,7 +1043,8 @@ static void parse_background(reader *rd, const cJSON *v, const jpath *p) {
 
 /* ---- the request ------------------------------------------------------------------- */
 
-/* Every top-level field the service knows. To add one, add a row (and its parser).
+/* Every top-level field the service knows but the options (io/options.c). To
+ * add one, add a row (and its parser).
  * Invariant: rows are parsed in this order, so a field comes after those it
  * depends on (vertices before per-vertex data; values, which fix the channel
  * count, before every other per-channel field). */
@@ -1095,12 +1060,6 @@ static const field top_fields[] = {
     {"corner_gradients", parse_corner_gradients, ROLE_MESH_DATA, ""},
     {"midpoints", parse_midpoints, ROLE_MESH_DATA, ""},
     {"discontinuities", parse_discontinuities, ROLE_MESH_DATA, ""},
-    {"method", parse_method, 0, ""},
-    {"cross_boundary", parse_cross, 0, ""},
-    {"wedges", parse_wedges, 0, ""},
-    {"tangents", parse_tangents, 0, ""},
-    {"twist", parse_twist, 0, ""},
-    {"average", parse_average, 0, ""},
     {"points", parse_points, ROLE_POINTS, "[[x, y], ...]"},
     {"with_gradients", parse_with_gradients, 0, ""},
     {"viewport", parse_viewport, ROLE_VIEWPORT, "{x0, y0, x1, y1, width, height}"},
@@ -1110,7 +1069,7 @@ static const field top_fields[] = {
     {"linear", parse_linear, 0, ""},
     {"background", parse_background, 0, ""},
     {"reference", parse_reference, ROLE_REFERENCE, "{points, values}"},
-    {"methods", parse_methods, 0, ""},
+    {"methods", NULL, 0, ""}, /* after the options, which its entries start from */
 };
 #define NTOP ((int)(sizeof top_fields / sizeof top_fields[0]))
 
@@ -1149,14 +1108,20 @@ static void check_exclusive(reader *rd, const cJSON *const *found) {
 }
 
 static void read_request(reader *rd, const cJSON *root) {
-    const cJSON *found[NTOP];
-    if (read_members(rd, root, NULL, top_fields, NTOP, found, "a JSON object (the request)")) return;
+    const cJSON *found[NTOP + TC_OPT_MAX];
+    if (sort_members(rd, root, NULL, top_fields, NTOP, 1, found, "a JSON object (the request)")) return;
     check_required(rd, found);
     rd->quads = found[field_index(top_fields, NTOP, "quads")] && !found[field_index(top_fields, NTOP, "triangles")];
     for (int i = 0; i < NTOP && !rd->nomem; i++) {
         if (!found[i] || !top_fields[i].parse) continue;
         jpath p = key_path(NULL, top_fields[i].name);
         top_fields[i].parse(rd, found[i], &p);
+    }
+    read_options(rd, found + NTOP);
+    int methods = field_index(top_fields, NTOP, "methods");
+    if (found[methods] && !rd->nomem) {
+        jpath p = key_path(NULL, "methods");
+        parse_methods(rd, found[methods], &p);
     }
     check_exclusive(rd, found);
 }
@@ -1225,6 +1190,7 @@ int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request *
         return TC_REQ_NOMEM;
     }
     tc_options_default(&r->opt);
+    tc_mesh_desc_init(&r->desc);
     r->format = -1;
     rd.r = r;
     cJSON *root = parse_json(&rd, json, len);

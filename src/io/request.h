@@ -24,7 +24,8 @@ typedef enum {
 #define TC_REQ_OWNED_MAX 32
 
 typedef struct tc_request {
-    tc_mesh_desc desc;  /* every array owned by the request (valid while it lives) */
+    tc_mesh_desc desc;  /* every array owned by the request (valid while it lives); the
+                         * mesh options default as tc_mesh_desc_init sets them */
     tc_options opt;     /* defaults (tc_options_default) unless the request names them */
     int has_mesh;       /* vertices/triangles/values were present */
     int values_plain;   /* "values" were plain numbers -> respond with plain numbers */

@@ -2,6 +2,7 @@
  * scene front-end's output, readable by tc_request_parse to the same doubles. */
 #include "io/request_write.h"
 #include "io/jsonout.h"
+#include "io/options.h"
 
 /* ",\n" before every member but the first, then "name":. */
 static void member(tc_strbuf *b, const char *name) { tc_json_key(b, ",\n", name); }
@@ -147,20 +148,15 @@ static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int
     tc_strbuf_puts(b, "]");
 }
 
-static void options(tc_strbuf *b, const tc_options *o) {
-    member(b, "method");
-    tc_strbuf_json_string(b, tc_method_name(o->method));
-    member(b, "cross_boundary");
-    tc_strbuf_json_string(b, tc_cross_name(o->cross_boundary));
-    member(b, "wedges");
-    tc_strbuf_json_string(b, tc_wedges_name(o->wedges));
-    member(b, "tangents");
-    tc_strbuf_json_string(b, tc_tangents_name(o->tangents));
-    member(b, "average");
-    tc_strbuf_json_string(b, tc_average_name(o->average));
-    if (o->method != TC_METHOD_HERMITE) return; /* the option only hermite reads */
-    member(b, "twist");
-    tc_strbuf_json_string(b, tc_twist_name(o->twist));
+/* The mesh options that differ from the request format's defaults (left out
+ * they would read back as those), then, when o is not NULL, "method" and the
+ * options it reads (the rest would change nothing). */
+static void options(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
+    for (int i = 0; i < tc_nopts; i++) {
+        const tc_opt *row = &tc_opts[i];
+        if (row->target == TC_OPT_MESH && !tc_opt_is_default(row, d)) tc_opt_write(b, ",\n", row, d);
+        if (o && tc_opt_read_by(row, o->method)) tc_opt_write(b, ",\n", row, o);
+    }
 }
 
 void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
@@ -180,6 +176,6 @@ void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
         polylines(b, "c-1", &d->cm1, &first);
         tc_strbuf_putc(b, '}');
     }
-    if (o) options(b, o);
+    options(b, d, o);
     tc_strbuf_puts(b, "}\n");
 }

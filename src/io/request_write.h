@@ -12,8 +12,9 @@
  * "hessians", "corner_gradients", "midpoints" (with "triangle" when a sample
  * belongs to one side) and "discontinuities" the description has (entries a
  * mask marks absent are null; per-corner entries name a "quad" with 4 corners
- * on a quad mesh), then "method", "cross_boundary", "wedges" and "tangents"
- * (and "twist" for hermite) when o is not NULL. Numbers go
+ * on a quad mesh), the mesh options that differ from tc_mesh_desc_init's
+ * ("value_tolerance", ...), then "method" and the options it reads
+ * (io/options.c) when o is not NULL. Numbers go
  * through tc_strbuf_double, so tc_request_parse reads back the same doubles.
  * Allocation failure is left in b->oom. */
 void tc_json_request(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o);

@@ -8,7 +8,7 @@ static void member(tc_strbuf *b, const char *name) { tc_json_key(b, ",", name); 
 void tc_json_ordinates(tc_strbuf *b, const tc_recon *r) {
     const tc_mesh *m = tc_recon_mesh(r);
     int nc = tc_mesh_channel_count(m), nk = tc_recon_coef_count(r);
-    int32_t nt = tc_mesh_triangle_count(m);
+    int32_t ngiven = tc_mesh_given_triangle_count(m);
     tc_json_options(b, tc_recon_options(r));
     member(b, "channels");
     tc_strbuf_int(b, nc);
@@ -22,8 +22,14 @@ void tc_json_ordinates(tc_strbuf *b, const tc_recon *r) {
     member(b, "ordinates");
     tc_strbuf_putc(b, '[');
     const double *coef = tc_recon_coefs(r);
-    for (int32_t t = 0; t < nt && !b->oom; t++) {
-        tc_strbuf_puts(b, t ? ",\n[" : "\n[");
+    for (int32_t i = 0; i < ngiven && !b->oom; i++) { /* the request's numbering: null where dropped */
+        int32_t t = tc_mesh_triangle_of_given(m, i);
+        tc_strbuf_puts(b, i ? ",\n" : "\n");
+        if (t < 0) {
+            tc_strbuf_puts(b, "null");
+            continue;
+        }
+        tc_strbuf_putc(b, '[');
         for (int ch = 0; ch < nc; ch++) {
             if (ch) tc_strbuf_putc(b, ',');
             tc_json_numbers(b, coef + ((size_t)t * nc + ch) * nk, nk);

@@ -277,6 +277,7 @@ int tc_scene_mesh_new(const tc_scene *s, const tc_scene_mesh_opts *o, tc_scene_m
     int st = check_opts(o);
     if (st != TC_OK) return st;
     tc_scene_mesh *m = calloc(1, sizeof *m);
+    if (m) tc_mesh_desc_init(&m->desc); /* the defaults a front-end sends */
     if (!m) return TC_ENOMEM;
     tc__mbuild b;
     tc__mb_init(&b);

@@ -21,7 +21,10 @@ on any failure):
      daemon keeps answering (body, pixel, triangle limits, stalled clients, timeouts);
   6. 8 concurrent clients x 200 mixed requests all get the reference answers, and the
      daemon's VmRSS stays within 10% (not asserted under sanitizers);
-  7. SIGTERM lets the request in flight finish, refuses new connections, exits 0.
+  7. SIGTERM lets the request in flight finish, refuses new connections, exits 0;
+  8. what real front-ends print: values that must agree within value_tolerance are
+     averaged (beyond it refused naming the edge), degenerate triangles dropped on request
+     with the request's numbering kept.
 Every daemon started here is killed when the script ends, however it ends.
 """
 import atexit
@@ -757,8 +760,39 @@ def run_cli(*args):
     return p.returncode, p.stdout, p.stderr
 
 
+def options_agree_with_contract():
+    """The request options as `tocher help` lists them (from the options and method tables)
+    against MeshRequest in api/openapi.yaml: the same names, values and defaults."""
+    import yaml
+    with open(os.path.join(ROOT, "api", "openapi.yaml")) as fh:
+        props = yaml.safe_load(fh)["components"]["schemas"]["MeshRequest"]["properties"]
+    rc, out, _ = run_cli("help")
+    text = out.decode().split("request options")[-1].splitlines()[1:]
+    errs = []
+    for line in text:
+        m = re.match(r"^  (\S+)\s+(.*?)(?: \[.*\])?$", line)
+        if not m:
+            continue
+        name, accepts = m.group(1), m.group(2)
+        spec = props.get(name)
+        if spec is None:
+            errs.append("%s not in the contract" % name)
+        elif accepts.startswith("a number"):
+            lo, hi, dflt = re.match(r"a number from (\S+) to (\S+), default (\S+)", accepts).groups()
+            if (float(lo), float(hi), float(dflt)) != (spec.get("minimum"), spec.get("maximum"), spec.get("default")):
+                errs.append("%s: %s vs %s" % (name, accepts, spec))
+        else:
+            values = accepts.split(", ")
+            if values != spec.get("enum") or values[0] != spec.get("default"):
+                errs.append("%s: %s vs enum %s default %s" % (name, values, spec.get("enum"), spec.get("default")))
+    return rc == 0 and len(text) >= 9 and not errs, "; ".join(errs) or "%d options" % len(text)
+
+
 def section_cli(D):
     section("3. /v1/ordinates == tocher ordinates")
+    ok, detail = options_agree_with_contract()
+    check("every request option of `tocher help` (the options table) is in api/openapi.yaml with the same values "
+          "and default", ok, detail)
     files = [("square-light.json", os.path.join(EX, "square-light.json")),
              ("shadow-edges.json", os.path.join(EX, "shadow-edges.json")),
              ("render.json", os.path.join(EX, "render.json"))]
@@ -839,6 +873,91 @@ def section_threads(D):
 MAX_BODY = 1 << 20
 
 
+# ---- 8. what real front-ends print: value_tolerance, degenerate ----------------------------
+
+def edge_ordinates(doc, t, a, b):
+    """The 4 cubic ordinates of triangle t along its edge from corner a to corner b (0..2), by label."""
+    names = "uvw"
+    labels = doc["labels"]
+    want = [names[a] * 3, "".join(sorted(names[a] * 2 + names[b], key=names.index)),
+            "".join(sorted(names[a] + names[b] * 2, key=names.index)), names[b] * 3]
+    return [doc["ordinates"][t][0][labels.index(x)] for x in want]
+
+
+def warning_at(doc, path, text):
+    return any(w["path"] == path and text in w["message"] for w in doc.get("warnings", []))
+
+
+def section_frontend(D):
+    section("8. what real front-ends print")
+    # Triangle 1 = (0, 2, 3) says vertex 2 is 2.000004 where triangle 0 says 2: 1.3e-6 of the
+    # scale 3, printing noise. Accepted, both corners averaged: the shared edge [0, 2] has the
+    # same ordinates on both sides, bit for bit.
+    noisy = with_(SMALL, corner_values=[{"triangle": 1, "values": [0, 2.000004, 3]}])
+    r = post(D, "/v1/ordinates", noisy)
+    doc = r.json() if r.status == 200 else {}
+    ok = r.status == 200 and edge_ordinates(doc, 0, 0, 2) == edge_ordinates(doc, 1, 0, 1)
+    check("value_tolerance (default 1e-4): corner values 1.3e-6 apart across a C1 edge are averaged, the edge "
+          "exactly continuous", ok and abs(edge_ordinates(doc, 0, 0, 2)[3] - 2.000002) < 1e-15, r.brief())
+    check("... and a warning names the vertex and the largest difference",
+          warning_at(doc, "vertices[2]", "differed at 1 vertices, by up to 1.3e-06"), str(doc.get("warnings")))
+    check("... the answer does not echo the mesh option", "value_tolerance" not in doc, str(list(doc)))
+    r = post(D, "/v1/ordinates", with_(noisy, value_tolerance=0))
+    check("value_tolerance 0: the same request refused (strict), naming the edge and both values",
+          not problem_errors(r, 422, ["C1 edge [2, 0]", "vertex 2", "2 (triangle 0)", "2.000004", "(triangle 1)"],
+                             "corner_values[0]"), r.brief())
+    r = post(D, "/v1/ordinates", with_(noisy, corner_values=[{"triangle": 1, "values": [0, 2.001, 3]}]))
+    check("beyond the tolerance (3.3e-4 of the scale): refused, the tolerance in the message",
+          not problem_errors(r, 422, ["C1 edge [2, 0]", "value_tolerance 0.0001", "flag the edge c-1"],
+                             "corner_values[0]"), r.brief())
+    r = post(D, "/v1/ordinates", with_(noisy, corner_values=[{"triangle": 1, "values": [0, 2.001, 3]}],
+                                       value_tolerance=1e-3))
+    check("a larger value_tolerance accepts it", r.status == 200, r.brief())
+    r = post(D, "/v1/compare", with_(noisy, reference={"points": [[0.5, 0.25]], "values": [0.75]},
+                                     methods=[{"method": "linear", "value_tolerance": 0}]))
+    doc = r.json() if r.status == 200 else {}
+    check("value_tolerance inside /v1/compare's methods: ignored with a warning at its path",
+          r.status == 200 and warning_at(doc, "methods[0].value_tolerance", "applies to the mesh"), r.brief())
+
+    # degenerate "drop": triangle 1 has zero area (vertex 4 on the bottom edge), triangle 3 repeats
+    # a vertex. The answer keeps the request's numbering; points and pixels fall in the others.
+    clean = with_(SMALL, vertices=SMALL["vertices"] + [[0.5, 0]], values=[0, 1, 2, 3, 0.5])
+    dirty = with_(clean, triangles=[[0, 1, 2], [0, 4, 1], [0, 2, 3], [2, 2, 3]], degenerate="drop")
+    r = post(D, "/v1/ordinates", with_(dirty, degenerate="refuse"))
+    check("degenerate \"refuse\" (the default): the zero-area triangle refused at its path",
+          not problem_errors(r, 422, ["zero-area"], "triangles[1]"), r.brief())
+    r, rc = post(D, "/v1/ordinates", dirty), post(D, "/v1/ordinates", clean)
+    doc, ref = (r.json(), rc.json()) if r.status == rc.status == 200 else ({}, {})
+    ords = doc.get("ordinates", [])
+    check("degenerate \"drop\": /v1/ordinates has 4 entries, null for the dropped triangles 1 and 3, the others as "
+          "without them", len(ords) == 4 and ords[1] is None and ords[3] is None and ords[0] == ref["ordinates"][0]
+          and ords[2] == ref["ordinates"][1], r.brief())
+    check("... one warning lists them at the first one's path",
+          warning_at(doc, "triangles[1]", "2 degenerate triangles") and warning_at(doc, "triangles[1]", ": 1, 3;"),
+          str(doc.get("warnings")))
+    check("... the vertex only they used is reported unused", warning_at(doc, "vertices[4]", "used by no triangle"),
+          str(doc.get("warnings")))
+    pts = [[0.25, 0.1], [0.9, 0.5], [0.1, 0.8], [0.5, 0.0], [1.5, 0.5]]
+    r, rc = post(D, "/v1/evaluate", with_(dirty, points=pts)), post(D, "/v1/evaluate", with_(clean, points=pts))
+    check("... /v1/evaluate locates points in the remaining triangles (values as without them)",
+          r.status == rc.status == 200 and r.json()["values"] == rc.json()["values"] and r.json()["outside"] == [4],
+          r.brief())
+    vp = {"x0": -0.1, "y0": -0.1, "x1": 1.1, "y1": 1.1, "width": 24, "height": 24}
+    r = post(D, "/v1/render", with_(dirty, viewport=vp, format="raw"))
+    rc = post(D, "/v1/render", with_(clean, viewport=vp, format="raw"))
+    check("... /v1/render gives the tile of the mesh without them", r.status == rc.status == 200 and r.body == rc.body,
+          r.brief())
+    r = post(D, "/v1/ordinates", with_(dirty, corner_values=[{"triangle": 2, "values": [0, 2.5, 3]}]))
+    check("... an error about another triangle names its index in the request",
+          not problem_errors(r, 422, ["(triangle 0)", "(triangle 2)", "C1 edge [2, 0]"], "corner_values[0]"), r.brief())
+    r = post(D, "/v1/ordinates", with_(dirty, corner_values=[{"triangle": 3, "values": [9, 9, 9]}],
+                                       midpoints=[{"edge": [0, 4], "value": 1}]))
+    doc = r.json() if r.status == 200 else {}
+    check("... entries naming a dropped triangle or its edges are ignored with a warning",
+          r.status == 200 and warning_at(doc, "corner_values[0].triangle", "triangle 3 was dropped")
+          and warning_at(doc, "midpoints[0].edge", "edge only of triangles dropped"), r.brief())
+
+
 def grid_mesh(n):
     verts = [[i / n, j / n] for j in range(n + 1) for i in range(n + 1)]
     tris = []
@@ -891,6 +1010,16 @@ def catalogue(D):
          ["[1, 3] is not an edge"], "discontinuities.c0[0][1]", None, None),
         ("corner values disagreeing across a C1 edge", P(S(corner_values=[{"triangle": 0, "values": [0, 1, 5]}])), 422,
          ["disagree", "C1 edge"], "corner_values[0]", None, None),
+        ("value_tolerance above 1", P(S(value_tolerance=2)), 422, ["value_tolerance must be a number from 0 to 1"],
+         "value_tolerance", None, None),
+        ("value_tolerance as a string", P(S(value_tolerance="1e-4")), 400, ["expected a number"], "value_tolerance",
+         None, None),
+        ("an unknown degenerate mode", P(S(degenerate="skip")), 422, ["unknown degenerate 'skip'", "refuse, drop"],
+         "degenerate", None, None),
+        ("a non-manifold edge with degenerate drop", P(with_(fan, degenerate="drop")), 422,
+         ["non-manifold edge [1, 2]"], "triangles[4]", None, None),
+        ("an unknown range", P(S(range="clamped")), 422, ["unknown range 'clamped'", "local, positive, free"], "range",
+         None, None),
         ("normal with N.z = 0", P(S(normals=[[0, 0, 1], [0, 0, 1], [0, 0.5, 0], [0, 0, 1]])), 422, ["N.z"],
          "normals[2]", None, None),
         ("normal with N.z < 0", P(S(normals=[[0, 0, 1], [0.1, 0, -1], [0, 0, 1], [0, 0, 1]])), 422, ["N.z"],
@@ -1372,7 +1501,8 @@ def main():
                "--request-timeout", "0.02")
     steps = [("endpoints", lambda: section_basics(D)), ("images", lambda: section_images(D)),
              ("cli", lambda: section_cli(D)), ("threads", lambda: section_threads(D)),
-             ("bad input", lambda: section_bad_input(D, S)), ("concurrency", lambda: section_concurrency(D)),
+             ("bad input", lambda: section_bad_input(D, S)), ("front-ends", lambda: section_frontend(D)),
+             ("concurrency", lambda: section_concurrency(D)),
              ("shutdown", section_shutdown)]
     for name, fn in steps:
         t0 = time.time()

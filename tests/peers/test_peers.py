@@ -79,7 +79,8 @@ def run(seed, nchan):
     base = {"vertices": P.tolist(), "triangles": T.tolist(),
             "values": Z[:, 0].tolist() if nchan == 1 else Z.tolist(),
             "gradients": G[:, 0, :].tolist() if nchan == 1 else G.tolist(),
-            "method": "clough-tocher", "tangents": "given"}
+            "method": "clough-tocher", "tangents": "given",
+            "range": "free"}  # the paper's cubic: the peers do not limit their range
     scale = np.abs(Z).max()
 
     # normal vs matplotlib's reduced HCT

@@ -17,7 +17,8 @@ static void const_f(const void *ctx, double x, double y, int ch, double *v, doub
 
 static tc_recon *make_opts(const tc_mesh *m, tc_method method, tc_cross cross, tc_wedges wedges, tc_tangents tan,
                            tc_average avg, tc_range range) {
-    tc_options o = {method, cross, wedges, tan, TC_TWIST_ESTIMATE, avg, range};
+    tc_options o = {.method = method, .cross_boundary = cross, .wedges = wedges, .tangents = tan, .average = avg,
+                    .range = range};
     tc_recon *r = NULL;
     tc_diags dg;
     tc_diags_init(&dg);

@@ -99,6 +99,7 @@ static tc_recon *quad_recon(tc_mesh **m, tc_method method) {
     tc_options o;
     tc_options_default(&o);
     o.method = method, o.tangents = TC_TANGENTS_GIVEN;
+    o.range = TC_RANGE_FREE; /* the quadratic itself, which leaves its corners by 0.5625 */
     tc_recon *r = NULL;
     CHECK(*m && tc_recon_new(*m, &o, &r, NULL) == TC_OK);
     return r;

@@ -229,6 +229,61 @@ TEST(raster_overlay_colours_edges) {
     scene_free(&s);
 }
 
+/* The colour the overlay gives the pixel row j = 80 of a 120 x 120 tile of the
+ * unit square (where the grid line y = 1/3 is drawn), counted over the row:
+ * which of grey (C1), yellow (C0), red (C-1) is the majority; -2 if none is. */
+static int overlay_row_kind(tc_method method, int kind, int jump) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 25);
+    tmesh g;
+    tmesh_grid(&g, 6, 6, 0, -1, &rng);
+    int32_t line[7];
+    for (int i = 0; i <= 6; i++) line[i] = tmesh_gv(6, i, 2);
+    CHECK(tmesh_add_line(&g, kind, line, 7) == 0);
+    tmesh_sample(&g, 3, smooth_f, NULL, 1, 0, jump ? 0.3 : 0);
+    tc_mesh *m = tmesh_build(&g);
+    tc_options o;
+    tc_options_default(&o);
+    o.method = method;
+    tc_recon *r = NULL;
+    int result = -2;
+    tc_viewport vp = {0, 0, 1, 1, 120, 120};
+    float *img = calloc((size_t)vp.width * vp.height * 3, sizeof *img);
+    if (m && img && tc_recon_new(m, &o, &r, NULL) == TC_OK) {
+        tc_render_overlay(r, &vp, 1.0, img);
+        int count[3] = {0, 0, 0}; /* C-1, C0, C1 */
+        for (int32_t i = 0; i < vp.width; i++) {
+            const float *p = img + ((size_t)80 * vp.width + i) * 3;
+            count[0] += p[0] == 1.0f && p[1] == 0.1f && p[2] == 0.1f;
+            count[1] += p[0] == 1.0f && p[1] == 0.8f && p[2] == 0.0f;
+            count[2] += p[0] == 0.35f && p[1] == 0.35f && p[2] == 0.35f;
+        }
+        for (int k = 0; k < 3; k++)
+            if (count[k] > vp.width / 2) result = k - 1;
+    }
+    free(img);
+    tc_recon_free(r);
+    tc_mesh_free(m);
+    tmesh_free(&g);
+    return result;
+}
+
+/* The overlay draws what each method does with an edge (its row in the method
+ * table): powell-sabin keeps a C-1 cut (red) but smooths a C0 flag (grey);
+ * clough-tocher-c1 smooths both; linear is C0 across every edge; constant
+ * jumps across every edge. Today's code drew powell-sabin's cuts grey. */
+TEST(raster_overlay_follows_the_method) {
+    CHECK(overlay_row_kind(TC_METHOD_POWELL_SABIN, TC_CM1, 1) == TC_CM1);
+    CHECK(overlay_row_kind(TC_METHOD_POWELL_SABIN, TC_C0, 0) == TC_C1);
+    CHECK(overlay_row_kind(TC_METHOD_CLOUGH_TOCHER, TC_CM1, 1) == TC_CM1);
+    CHECK(overlay_row_kind(TC_METHOD_CLOUGH_TOCHER, TC_C0, 0) == TC_C0);
+    CHECK(overlay_row_kind(TC_METHOD_CLOUGH_TOCHER_C1, TC_CM1, 1) == TC_C1);
+    CHECK(overlay_row_kind(TC_METHOD_LINEAR, TC_CM1, 1) == TC_CM1);
+    CHECK(overlay_row_kind(TC_METHOD_LINEAR, TC_C0, 0) == TC_C0);
+    CHECK(overlay_row_kind(TC_METHOD_LINEAR4, TC_C0, 0) == TC_C0);
+    CHECK(overlay_row_kind(TC_METHOD_CONSTANT, TC_C0, 0) == TC_CM1);
+}
+
 /* Pixel centres exactly on vertices and edges: mesh vertices at k/8 and a tile
  * whose centres are exactly i/64 (x0 = -1/128, step 1/64), so every vertex and
  * every cell edge and diagonal passes through centres. */

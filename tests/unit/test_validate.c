@@ -403,6 +403,111 @@ TEST(validate_corner_values_disagree) {
     PASSES(&d);
 }
 
+/* value_tolerance: a front-end printing 6 significant digits makes the two
+ * sides of a C1 edge differ by ~1e-6 of the scale. Within the tolerance the
+ * corner values of the vertex are replaced by their mean (a warning names
+ * the vertex); beyond it the mesh is refused naming the edge and both values;
+ * 0 (a zero-filled description) is the strict 1e-12 of old. */
+TEST(validate_value_tolerance_averages_or_refuses) {
+    int32_t tri = 1;
+    double cv[3] = {1, 3 + 3e-6, 4}; /* triangle 1 = (0, 2, 3): vertex 2 is 3 in triangle 0 */
+    tc_mesh_desc d = square();
+    d.ncorner_values = 1, d.corner_values_tri = &tri, d.corner_values = cv;
+    FAILS(&d, "corner_values[0]", "C1 edge [2, 0]", "vertex 2", "3 (triangle 0)", "3.000003 (triangle 1)",
+          "7.5e-07 of the channel's scale", "value_tolerance 1e-12");
+    d.value_tolerance = 1e-6; /* 3e-6 / 4 = 7.5e-7 of the scale: within */
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    CHECK(dg.warnings == 1 && dg.count == 1);
+    if (dg.count) {
+        CHECK(!strcmp(dg.items[0].path, "vertices[2]"));
+        CHECK_STR_CONTAINS(dg.items[0].message, "differed at 1 vertices, by up to 7.5e-07");
+    }
+    if (m) { /* both corners at vertex 2 now hold the mean, bit for bit; the others are untouched */
+        double mean = 3 + 1.5e-6;
+        CHECK(tc_mesh_corner_value(m, 0, 2)[0] == tc_mesh_corner_value(m, 1, 1)[0]);
+        CHECK_NEAR(tc_mesh_corner_value(m, 0, 2)[0], mean, 1e-15);
+        CHECK(tc_mesh_corner_value(m, 1, 0)[0] == 1 && tc_mesh_corner_value(m, 0, 0)[0] == 1);
+        CHECK(tc_mesh_corner_value(m, 1, 2)[0] == 4);
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+    d.value_tolerance = 5e-7; /* beyond: refused, with the tolerance in the message */
+    FAILS(&d, "corner_values[0]", "C1 edge [2, 0]", "vertex 2", "value_tolerance 5e-07");
+    d.value_tolerance = -1;
+    FAILS(&d, "value_tolerance", "must be 0 to 1");
+    d.value_tolerance = NAN;
+    FAILS(&d, "value_tolerance", "must be 0 to 1");
+}
+
+/* Corners joined through C0/C1 edges are averaged as one group; a C-1 edge
+ * parts the groups, each keeping its own mean, so the jump stays. The
+ * reconstruction is then exactly continuous across the C1 edges. */
+TEST(validate_value_tolerance_groups_stop_at_cm1_edges) {
+    /* a fan of 4 triangles around vertex 4 (the centre of the square) */
+    const double xy[] = {0, 0, 1, 0, 1, 1, 0, 1, 0.5, 0.5};
+    const int32_t tris[] = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4};
+    const double v[] = {1, 2, 3, 4, 10};
+    const int32_t ct[] = {0, 1, 2, 3}, cut[] = {4, 2}, st[] = {0, 2}, cut2[] = {0, 4};
+    double cv[12] = {1, 2, 10, 2, 3, 10 + 2e-6, 3, 4, 20, 4, 1, 20 + 4e-6}; /* a jump 10 -> 20 at vertex 4 */
+    tc_mesh_desc d;
+    tc_mesh_desc_init(&d); /* value_tolerance 1e-4 */
+    d.nverts = 5, d.xy = xy, d.ntris = 4, d.tris = tris, d.nchan = 1, d.values = v;
+    d.ncorner_values = 4, d.corner_values_tri = ct, d.corner_values = cv;
+    d.cm1 = (tc_polylines){1, st, cut}; /* edge 4-2 cuts triangles 1 | 2 */
+    FAILS(&d, "corner_values[3]", "C1 edge [4, 0]", "vertex 4", "0.5 of the channel's scale"); /* 0-4 joins 10, 20 */
+    int32_t lines_start[3] = {0, 2, 4};
+    int32_t lines[4] = {cut[0], cut[1], cut2[0], cut2[1]};
+    d.cm1 = (tc_polylines){2, lines_start, lines}; /* and edge 0-4: two groups {0, 1}, {2, 3} */
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    CHECK(dg.warnings == 1);
+    if (dg.count) CHECK_STR_CONTAINS(dg.items[0].message, "differed at 1 vertices");
+    if (m) {
+        CHECK(tc_mesh_corner_value(m, 0, 2)[0] == tc_mesh_corner_value(m, 1, 2)[0]);
+        CHECK(tc_mesh_corner_value(m, 2, 2)[0] == tc_mesh_corner_value(m, 3, 2)[0]);
+        CHECK_NEAR(tc_mesh_corner_value(m, 0, 2)[0], 10 + 1e-6, 1e-14);
+        CHECK_NEAR(tc_mesh_corner_value(m, 2, 2)[0], 20 + 2e-6, 1e-14);
+        tc_recon *r = NULL;
+        CHECK(tc_recon_new(m, NULL, &r, NULL) == TC_OK);
+        for (int i = 0; r && i <= 8; i++) { /* along the C1 edge 4-1 from both sides: exactly equal */
+            double x = 0.5 + 0.5 * i / 8, y = 0.5 - 0.5 * i / 8, z0, z1;
+            tc_eval_triangle(r, 0, x, y, &z0, NULL);
+            tc_eval_triangle(r, 1, x, y, &z1, NULL);
+            CHECK_MSG(fabs(z0 - z1) <= 1e-15 * 20, "at %g, %g: %.17g vs %.17g", x, y, z0, z1);
+        }
+        tc_recon_free(r);
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}
+
+/* Midpoint samples given for each side of a C1 edge: within the tolerance
+ * they are averaged (a warning); a larger difference stays as given (the
+ * validator allows a jump in per-side samples). */
+TEST(validate_value_tolerance_midpoint_sides) {
+    const int32_t edge[4] = {0, 2, 2, 0};
+    int32_t side[2] = {0, 1};
+    double z[2] = {2, 2 + 1e-6};
+    tc_mesh_desc d = square();
+    d.value_tolerance = 1e-4;
+    d.nmidpoints = 2, d.midpoint_edge = edge, d.midpoint_values = z, d.midpoint_tri = side;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    CHECK(dg.warnings == 1);
+    if (dg.count) {
+        CHECK(!strcmp(dg.items[0].path, "midpoints[1]"));
+        CHECK_STR_CONTAINS(dg.items[0].message, "both sides of 1 C0/C1 edges differed");
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+    z[1] = 2.5;
+    PASSES(&d);
+}
+
 /* ---- 9. discontinuity polylines -------------------------------------------------------- */
 
 TEST(validate_polyline_too_short) {

@@ -1,0 +1,111 @@
+/* test_methods.c — the method table (src/core/method.c) against what the
+ * methods do: names both ways, coefficient labels, and the options each reads. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "props.h"
+#include "quadgen.h"
+
+TEST(methods_table_names_round_trip) {
+    int n = tc_method_count();
+    CHECK(n >= 7);
+    for (int i = 0; i < n; i++) {
+        const char *name = tc_method_name((tc_method)i);
+        tc_method back = (tc_method)-1;
+        CHECK_MSG(name && tc_method_parse(name, &back) == 0 && back == (tc_method)i, "method %d (%s)", i,
+                  name ? name : "no name");
+    }
+    tc_method x;
+    CHECK(tc_method_name((tc_method)n) == NULL && tc_method_name((tc_method)-1) == NULL);
+    CHECK(tc_method_parse("clough_tocher", &x) == -1 && tc_method_parse(NULL, &x) == -1);
+    CHECK(tc_method_reads((tc_method)n) == 0 && tc_method_quads_only(TC_METHOD_HERMITE));
+    CHECK(!tc_method_quads_only(TC_METHOD_CLOUGH_TOCHER));
+}
+
+static void wavy(const void *ctx, double x, double y, int ch, double *v, double g[2], double h[3]) {
+    (void)ctx;
+    double a = 1 + 0.5 * ch;
+    *v = sin(2 * a * x) * cos(1.3 * y) + x * y;
+    g[0] = 2 * a * cos(2 * a * x) * cos(1.3 * y) + y;
+    g[1] = -1.3 * sin(2 * a * x) * sin(1.3 * y) + x;
+    h[0] = -4 * a * a * sin(2 * a * x) * cos(1.3 * y);
+    h[1] = -2.6 * a * cos(2 * a * x) * sin(1.3 * y) + 1;
+    h[2] = -1.69 * sin(2 * a * x) * cos(1.3 * y);
+}
+
+/* Option `bit` of o set to a value other than the default. */
+static void change(tc_options *o, unsigned bit) {
+    if (bit == TC_READS_CROSS_BOUNDARY) o->cross_boundary = TC_CROSS_SALESIN;
+    if (bit == TC_READS_WEDGES) o->wedges = TC_WEDGES_LITERAL;
+    if (bit == TC_READS_TANGENTS) o->tangents = TC_TANGENTS_ESTIMATE;
+    if (bit == TC_READS_TWIST) o->twist = TC_TWIST_ZERO;
+    if (bit == TC_READS_AVERAGE) o->average = TC_AVERAGE_NORMALS;
+    if (bit == TC_READS_RANGE) o->range = TC_RANGE_FREE;
+}
+
+/* Each coefficient of r equals that of base, bit for bit. */
+static int same_coefs(const tc_recon *r, const tc_recon *base) {
+    const tc_mesh *m = tc_recon_mesh(base);
+    size_t n = (size_t)tc_mesh_triangle_count(m) * tc_mesh_channel_count(m) * tc_recon_coef_count(base);
+    return tc_recon_coef_count(r) == tc_recon_coef_count(base) && !memcmp(tc_recon_coefs(r), tc_recon_coefs(base),
+                                                                          n * sizeof(double));
+}
+
+/* Method i on m: its labels are as many as its coefficients, and an option it
+ * does not read (tc_method_reads) leaves every coefficient the same. */
+static void check_reads(const tc_mesh *m, tc_method method) {
+    static const unsigned bits[] = {TC_READS_CROSS_BOUNDARY, TC_READS_WEDGES, TC_READS_TANGENTS,
+                                    TC_READS_TWIST,          TC_READS_AVERAGE, TC_READS_RANGE};
+    tc_options o;
+    tc_options_default(&o);
+    o.method = method;
+    tc_recon *base = NULL;
+    if (tc_recon_new(m, &o, &base, NULL) != TC_OK) {
+        tc_test_fail(__FILE__, __LINE__, "%s does not build", tc_method_name(method));
+        return;
+    }
+    int nk = tc_recon_coef_count(base);
+    for (int k = 0; k < nk; k++) CHECK(tc_recon_coef_label(base, k) != NULL);
+    CHECK(tc_recon_coef_label(base, nk) == NULL);
+    for (size_t b = 0; b < sizeof bits / sizeof bits[0]; b++) {
+        if (tc_method_reads(method) & bits[b]) continue;
+        tc_options o2 = o;
+        change(&o2, bits[b]);
+        tc_recon *r = NULL;
+        CHECK(tc_recon_new(m, &o2, &r, NULL) == TC_OK);
+        CHECK_MSG(r && same_coefs(r, base), "%s changes with option bit %#x it does not read", tc_method_name(method),
+                  bits[b]);
+        tc_recon_free(r);
+    }
+    tc_recon_free(base);
+}
+
+/* The triangle methods on a flagged mesh with C-1 jumps and midpoint samples
+ * (so every face has its own plane and the averaging and wedge rules matter);
+ * the quad methods on a jittered quad grid. */
+TEST(methods_ignore_the_options_they_do_not_read) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 71);
+    tmesh g;
+    random_flagged_mesh(&g, &rng, 0, 12);
+    tmesh_sample(&g, 2, smooth_f, NULL, 0, 1, 0.3);
+    tc_mesh *m = tmesh_build(&g);
+    for (int i = 0; m && i < tc_method_count(); i++)
+        if (!tc_method_quads_only((tc_method)i)) check_reads(m, (tc_method)i);
+    tc_mesh_free(m);
+    tmesh_free(&g);
+    qmesh q;
+    qgrid_opts go = {0.2, 1, {0}, {0}};
+    qmesh_grid(&q, 5, 4, &go, &rng);
+    qmesh_sample(&q, 2, wavy, NULL);
+    tc_mesh_desc d;
+    qmesh_desc(&q, 0, 0, &d);
+    m = NULL;
+    CHECK(tc_mesh_new(&d, &m, NULL) == TC_OK);
+    for (int i = 0; m && i < tc_method_count(); i++)
+        if (tc_method_quads_only((tc_method)i)) check_reads(m, (tc_method)i);
+    tc_mesh_free(m);
+    qmesh_free(&q);
+}
