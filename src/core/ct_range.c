@@ -235,7 +235,7 @@ int tc__ct_ordinates_ranged(const tc_ct_input *x, tc_range mode, double *cg, dou
     tc_bounds b;
     tc_range_stats st;
     tc__range_stats_init(&st);
-    int rc = tc__bounds_build(m, x->cz, mode, 0, &b);
+    int rc = tc__bounds_build(m, x->ws, x->cz, cg, mode, 0, &b);
     uint8_t *dirty = rc == TC_OK ? tc__calloc((size_t)m->nt, 1) : NULL;
     if (rc == TC_OK && !dirty) rc = TC_ENOMEM;
     if (rc == TC_OK) rc = tc__range_planes(m, x->ws, x->cz, &b, ct_dirs, m, cg, &st);

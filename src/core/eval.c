@@ -13,8 +13,10 @@ void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y, double *
     int nc = r->m->nc;
     tc__at(r->m, t, x, y, &at);
     const double *coef = r->coef + (size_t)t * nc * r->ncoef;
-    for (int ch = 0; ch < nc; ch++)
+    for (int ch = 0; ch < nc; ch++) {
         r->eval(coef + (size_t)ch * r->ncoef, &at, &value[ch], grad ? grad + 2 * ch : NULL);
+        value[ch] = tc__floored(r, ch, value[ch]);
+    }
 }
 
 /* Point i, at (x, y). */

@@ -446,7 +446,7 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
     const struct tc_mesh *m = r->m;
     size_t n = (size_t)tw->ws.nw * m->nc;
     tc_bounds b;
-    int st = tc__bounds_build(m, m->cz, r->opt.range, 1, &b);
+    int st = tc__bounds_build(m, &tw->ws, m->cz, r->cgrad, r->opt.range, 1, &b);
     tw->keep = st == TC_OK ? tc__malloc(n, sizeof *tw->keep) : NULL;
     if (st == TC_OK && !tw->keep) st = TC_ENOMEM;
     if (st == TC_OK) {

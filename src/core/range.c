@@ -22,35 +22,107 @@ static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, i
     }
 }
 
-int tc__bounds_build(const struct tc_mesh *m, const double *cz, tc_range mode, int per_quad, tc_bounds *b) {
+/* Per wedge and channel, the range of every corner value of its faces:
+ * what the data do around a vertex on one side of its delimiters. */
+static int wedge_ranges(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, double *wr) {
+    int nc = m->nc;
+    for (int32_t w = 0; w < ws->nw; w++)
+        for (int ch = 0; ch < nc; ch++) {
+            double *r = wr + 2 * ((size_t)w * nc + ch);
+            r[0] = INFINITY, r[1] = -INFINITY;
+            for (int32_t i = 0; i < ws->w[w].count; i++) {
+                double lo, hi;
+                corner_range(m, cz, ws->corners[ws->w[w].first + i] / 3, ch, &lo, &hi);
+                r[0] = fmin(r[0], lo), r[1] = fmax(r[1], hi);
+            }
+        }
+    return TC_OK;
+}
+
+/* Triangle t's spread and its neighbourhood's (the faces of the wedges at
+ * its corners) in channel ch; per_quad: of its quad and the quad's. */
+static void spreads(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *wr, int32_t t,
+                    int ch, int per_quad, double *lo, double *hi, double *rlo, double *rhi) {
+    int nc = m->nc;
+    double nlo = INFINITY, nhi = -INFINITY;
+    corner_range(m, cz, t, ch, lo, hi);
+    for (int half = 0; half <= (per_quad && m->nq); half++) {
+        int32_t u = half ? t ^ 1 : t;
+        double a, b;
+        corner_range(m, cz, u, ch, &a, &b);
+        *lo = fmin(*lo, a), *hi = fmax(*hi, b);
+        for (int k = 0; k < 3; k++) {
+            const double *r = wr + 2 * ((size_t)ws->of_corner[3 * u + k] * nc + ch);
+            nlo = fmin(nlo, r[0]), nhi = fmax(nhi, r[1]);
+        }
+    }
+    *rlo = nlo, *rhi = nhi;
+}
+
+/* minmod: the smaller magnitude if a and b agree in sign, else 0. */
+static double minmod(double a, double b) { return a > 0 && b > 0 ? fmin(a, b) : a < 0 && b < 0 ? fmax(a, b) : 0; }
+
+/* How far triangle t's data themselves say it bulges past its corners: along
+ * each edge i -> j, the slopes of the two corner planes against the chord,
+ * D_i - (z_j - z_i) and (z_j - z_i) - D_j, agree on a curvature only if both
+ * ends bend the same way (a ridge or a valley crossing the edge); minmod
+ * keeps the smaller. A plane tilted at one end only (the artefact of a plane
+ * estimated across a thin strip next to flat data) agrees with nothing. */
+static double bulge(const struct tc_mesh *m, const double *cz, const double *cg, int32_t t, int ch) {
+    int nc = m->nc;
+    double worst = 0;
+    for (int i = 0; i < 3 && cg; i++) {
+        size_t ci = 3 * (size_t)t + i, cj = 3 * (size_t)t + (i + 1) % 3;
+        double e[2];
+        tc__sub(e, tc__vxy(m, m->tri[cj]), tc__vxy(m, m->tri[ci]));
+        double di = tc__dot(cg + 2 * (ci * nc + ch), e), dj = tc__dot(cg + 2 * (cj * nc + ch), e);
+        double chord = cz[cj * nc + ch] - cz[ci * nc + ch];
+        worst = fmax(worst, fabs(minmod(di - chord, chord - dj)));
+    }
+    return worst;
+}
+
+int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
+                     tc_range mode, int per_quad, tc_bounds *b) {
     int nc = m->nc;
     memset(b, 0, sizeof *b);
     b->nc = nc;
     b->lo = tc__malloc((size_t)m->nt * nc, sizeof *b->lo);
     b->hi = tc__malloc((size_t)m->nt * nc, sizeof *b->hi);
-    if (!b->lo || !b->hi) return TC_ENOMEM;
+    double *wr = tc__malloc((size_t)ws->nw * nc, 2 * sizeof *wr);
+    if (!b->lo || !b->hi || !wr) {
+        free(wr);
+        return TC_ENOMEM;
+    }
+    wedge_ranges(m, ws, cz, wr);
+    double whole[TC_MAX_CHANNELS];
     for (int ch = 0; ch < nc; ch++) {
-        double big = 0;
-        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) big = fmax(big, fabs(cz[c * nc + ch]));
+        double big = 0, lo = INFINITY, hi = -INFINITY;
+        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
+            double z = cz[c * nc + ch];
+            big = fmax(big, fabs(z)), lo = fmin(lo, z), hi = fmax(hi, z);
+        }
         b->tol[ch] = TC_RANGE_SLACK * big;
+        whole[ch] = hi - lo;
     }
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++) {
-            double lo, hi, lo2, hi2;
-            corner_range(m, cz, t, ch, &lo, &hi);
-            if (per_quad && m->nq) { /* the other half of the quad */
-                corner_range(m, cz, t ^ 1, ch, &lo2, &hi2);
-                lo = fmin(lo, lo2), hi = fmax(hi, hi2);
-            }
+            double lo, hi, rlo, rhi;
+            spreads(m, ws, cz, wr, t, ch, per_quad, &lo, &hi, &rlo, &rhi);
             size_t i = (size_t)t * nc + ch;
-            double floor = lo >= 0 ? 0 : -INFINITY, margin = TC_RANGE_MARGIN * (hi - lo);
+            double floor = lo >= 0 ? 0 : -INFINITY;
+            double bend = bulge(m, cz, cg, t, ch);
+            if (per_quad && m->nq) bend = fmax(bend, bulge(m, cz, cg, t ^ 1, ch));
+            double margin = fmax(TC_RANGE_MARGIN * (hi - lo), TC_RANGE_WHOLE * whole[ch]);
+            double up = fmin(TC_RANGE_BULGE * bend, fmax(0, rhi - hi)), down = fmin(TC_RANGE_BULGE * bend, fmax(0, lo - rlo));
             if (mode == TC_RANGE_POSITIVE) {
                 b->lo[i] = floor;
                 b->hi[i] = INFINITY;
             } else {
-                b->lo[i] = fmax(lo - margin, floor), b->hi[i] = hi + margin;
+                b->lo[i] = fmax(lo - fmax(margin, down), floor), b->hi[i] = hi + fmax(margin, up);
             }
         }
+    free(wr);
     return TC_OK;
 }
 
@@ -437,6 +509,10 @@ static double limit_group(group *G, double *cg) {
         y0[2 * s] = p[0], y0[2 * s + 1] = p[1];
     }
     if (violation(G, y0, tol) == 0) return 1;
+    if (getenv("DBG_V") && G->ws->w[G->w[0]].v == atoi(getenv("DBG_V"))) {
+        fprintf(stderr, "vertex %d k %d ch %d y0 %g %g\n", (int)G->ws->w[G->w[0]].v, G->k, G->ch, y0[0], y0[1]);
+        for (int i = 0; i < G->nrows; i++) { const row *r = &G->rows[i]; double v = tc__dot(r->d, y0 + 2 * r->slot); fprintf(stderr, "  slot %d d (%g %g) v %g in [%g, %g]%s\n", r->slot, r->d[0], r->d[1], v, r->lo, r->hi, tc__outside(v, r->lo, r->hi, tol) > 0 ? "  <-- OUT" : ""); }
+    }
     metrics(G, Q);
     /* The projection, or the plain scaling if the QP could not be set up; then
      * whichever of the two is nearer y0 (the scaling is always admissible). */

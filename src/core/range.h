@@ -25,6 +25,15 @@
 #ifndef TC_RANGE_MARGIN
 #define TC_RANGE_MARGIN 0.05
 #endif
+#ifndef TC_RANGE_AROUND
+#define TC_RANGE_AROUND 0
+#endif
+#ifndef TC_RANGE_BULGE
+#define TC_RANGE_BULGE 0.5
+#endif
+#ifndef TC_RANGE_WHOLE
+#define TC_RANGE_WHOLE 0
+#endif
 
 /* Ordinates within this much of the bound, relative to the channel's largest
  * |value|, count as inside: rounding, not overshoot. */
@@ -39,7 +48,8 @@ typedef struct {
 /* Bounds from the corner values cz [3nt][nc] the reconstruction interpolates.
  * per_quad: both triangles of a split quad get the range of the quad's four
  * corners (hermite's patch spans the quad). */
-int tc__bounds_build(const struct tc_mesh *m, const double *cz, tc_range mode, int per_quad, tc_bounds *b);
+int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
+                     tc_range mode, int per_quad, tc_bounds *b);
 void tc__bounds_free(tc_bounds *b);
 
 /* How far ordinate z lies outside [lo, hi] (0 inside, or within tol). */

@@ -156,6 +156,9 @@ static void shade_run(const job *jb, const tc_frame *f, int32_t t, const double 
     const double *coef = r->coef + (size_t)t * nc * r->ncoef;
     if (r->eval == tc__ct_eval) {
         tc__ct_span(f, coef, nc, xs, y, n, out, NULL);
+        for (int ch = 0; ch < nc; ch++) /* as tc__floored: (float) keeps the sign */
+            for (int32_t i = 0; r->floor0[ch] && i < n; i++)
+                if (out[(size_t)i * nc + ch] < 0) out[(size_t)i * nc + ch] = 0;
         return;
     }
     double v[TC_MAX_CHANNELS];
@@ -163,7 +166,7 @@ static void shade_run(const job *jb, const tc_frame *f, int32_t t, const double 
         tc_at at;
         tc__frame_at(f, xs[i], y, &at);
         for (int ch = 0; ch < nc; ch++) r->eval(coef + (size_t)ch * r->ncoef, &at, &v[ch], NULL);
-        for (int ch = 0; ch < nc; ch++) out[(size_t)i * nc + ch] = (float)v[ch];
+        for (int ch = 0; ch < nc; ch++) out[(size_t)i * nc + ch] = (float)tc__floored(r, ch, v[ch]);
     }
 }
 

@@ -83,7 +83,7 @@ static int limit_planes(struct tc_recon *r, const ct_scratch *s, const tc_plane_
     tc_bounds b;
     tc_range_stats st;
     tc__range_stats_init(&st);
-    int rc = tc__bounds_build(r->m, cz, r->opt.range, use->per_quad, &b);
+    int rc = tc__bounds_build(r->m, &s->ws, cz, r->cgrad, r->opt.range, use->per_quad, &b);
     if (rc == TC_OK) rc = tc__range_planes(r->m, &s->ws, cz, &b, use->dirs, use->ctx, r->cgrad, &st);
     if (rc == TC_OK) tc__range_warn(r->m, &st, r->opt.range, dg);
     tc__bounds_free(&b);
@@ -164,6 +164,16 @@ static int build(struct tc_recon *r, tc_diags *dg) {
     return st;
 }
 
+/* The channels whose data are all >= 0: a restricted range keeps them so. */
+static void set_floors(struct tc_recon *r) {
+    const struct tc_mesh *m = r->m;
+    for (int ch = 0; ch < m->nc; ch++) {
+        int nonneg = 1;
+        for (size_t c = 0; c < 3 * (size_t)m->nt && nonneg; c++) nonneg = m->cz[c * m->nc + ch] >= 0;
+        r->floor0[ch] = (uint8_t)nonneg;
+    }
+}
+
 /* A method that formats "triangles[t]" itself on a quad mesh would name an
  * element the caller never sent: the findings this build added are renamed to
  * "quads[t/2]" (the rest of the path kept), so every path is the request's. */
@@ -188,6 +198,7 @@ int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags
     int st = build(r, diags);
     if (st == TC_OK && r->opt.range == TC_RANGE_FREE && r->method->ordinates)
         tc__range_report_free(r, r->method->ordinates, diags);
+    if (st == TC_OK && r->opt.range != TC_RANGE_FREE && r->method->ordinates) set_floors(r);
     quad_paths(m, diags, from);
     if (st != TC_OK) {
         tc_recon_free(r);

@@ -17,7 +17,17 @@ struct tc_recon {
     tc_piece_eval eval;
     double *coef;              /* [nt][nc][ncoef] */
     double *cgrad;             /* [3nt][nc][2] corner planes used, or NULL */
+    /* Per channel: its data are all >= 0 and the range is restricted, so its
+     * ordinates are >= 0 to within rounding (range.h); the evaluators return
+     * the few values a rounding puts below 0 as 0 (never more than ~1e-12 of
+     * the channel's scale: the limiter, not this, keeps the function up). */
+    uint8_t floor0[TC_MAX_CHANNELS];
 };
+
+/* Value v of channel ch as a point or a pixel of r gets it. */
+static inline double tc__floored(const struct tc_recon *r, int ch, double v) {
+    return r->floor0[ch] && v < 0 ? 0 : v;
+}
 
 /* Every build below is a tc_method_build: it fills r->coef (allocated by
  * tc_recon_new for the method's ncoef) and reads its row as r->method. */
