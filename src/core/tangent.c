@@ -1,6 +1,6 @@
 /* tangent.c — where each corner's tangent plane comes from before wedges are
  * reconciled: given (gradient or normal), the paper's midpoint parabolas, or a
- * least-squares fit to samples inside the corner's wedge (never across a delimiter). */
+ * least-squares fit to samples around the corner's wedge (tanfit.c, never across a delimiter). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -8,8 +8,8 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/internal.h"
-#include "core/lsq.h"
 #include "core/plane.h"
+#include "core/tanfit.h"
 #include "core/tangent.h"
 
 /* Paper §3.3: the parabola through z_v, the midpoint sample and z_p along edge
@@ -30,89 +30,12 @@ static void from_midpoints(const struct tc_mesh *m, const double *cz, int32_t c,
     }
 }
 
-/* ---- least squares within a wedge ---- */
-
-typedef struct {
-    int n;
-    int64_t key[TC_LSQ_MAXROWS]; /* vertex id, or -1 - edge id for a midpoint */
-    double d[TC_LSQ_MAXROWS][2]; /* position relative to the wedge's vertex */
-    const double *z[TC_LSQ_MAXROWS];
-} samples;
-
-static void add_sample(samples *s, int64_t key, const double d[2], const double *z) {
-    for (int i = 0; i < s->n; i++)
-        if (s->key[i] == key) return;
-    if (s->n == TC_LSQ_MAXROWS) return;
-    s->key[s->n] = key;
-    s->d[s->n][0] = d[0];
-    s->d[s->n][1] = d[1];
-    s->z[s->n++] = z;
-}
-
-static void add_vertex(const struct tc_mesh *m, const double *cz, samples *s, int32_t v, int32_t c) {
-    double d[2];
-    tc__sub(d, tc__vxy(m, m->tri[c]), tc__vxy(m, v));
-    add_sample(s, m->tri[c], d, cz + (size_t)c * m->nc);
-}
-
-static void add_midpoint(const struct tc_mesh *m, samples *s, int32_t v, int32_t e) {
-    if (!m->mid_has || !m->mid_has[e]) return;
-    int32_t t = e / 3, k = e % 3, other = m->nbr[e] >= 0 ? 3 * m->nbr[e] + m->nbr_k[e] : e;
-    const double *a = tc__vxy(m, m->tri[e]), *b = tc__vxy(m, m->tri[3 * t + (k + 1) % 3]), *p = tc__vxy(m, v);
-    double d[2] = {0.5 * ((a[0] - p[0]) + (b[0] - p[0])), 0.5 * ((a[1] - p[1]) + (b[1] - p[1]))};
-    add_sample(s, -1 - (int64_t)(e < other ? e : other), d, m->mid + (size_t)e * m->nc);
-}
-
-/* The 1-ring of the wedge (vertices and midpoint samples of its faces); if
- * that is too few for a quadratic, the faces across the wedge's outer C1 edges. */
-static void gather(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                   samples *s) {
-    for (int32_t i = 0; i < w->count; i++) {
-        int32_t c = ws->corners[w->first + i], t = c / 3, k = c % 3;
-        add_vertex(m, cz, s, w->v, 3 * t + (k + 1) % 3);
-        add_vertex(m, cz, s, w->v, 3 * t + (k + 2) % 3);
-        for (int j = 0; j < 3; j++) add_midpoint(m, s, w->v, 3 * t + j);
-    }
-    if (s->n >= 6) return;
-    for (int32_t i = 0; i < w->count; i++) {
-        int32_t c = ws->corners[w->first + i], t = c / 3, k = c % 3, e = 3 * t + (k + 1) % 3;
-        if (m->nbr[e] < 0 || tc__eff_flag(m, ws->honor_flags, e) != TC_C1) continue;
-        int32_t t2 = m->nbr[e], k2 = m->nbr_k[e];
-        add_vertex(m, cz, s, w->v, 3 * t2 + (k2 + 2) % 3);
-    }
-}
-
-/* Weighted fit of z - z_v = g.d (+ 1/2 d'Hd when there are enough samples),
- * in coordinates scaled by the farthest sample and rows weighted by 1/|d| so
- * near samples count more; exact for quadratics when the quadratic fit runs. */
-static void fit(const samples *s, const double *zv, int nc, double *g) {
-    double h = 0;
-    for (int i = 0; i < s->n; i++) h = fmax(h, tc__hypot(s->d[i][0], s->d[i][1]));
-    for (int cols = s->n >= 6 ? 5 : 2; cols >= 2; cols -= 3) {
-        double A[TC_LSQ_MAXROWS][TC_LSQ_MAXCOLS], B[TC_LSQ_MAXROWS][TC_LSQ_MAXRHS], X[TC_LSQ_MAXCOLS][TC_LSQ_MAXRHS];
-        for (int i = 0; i < s->n; i++) {
-            double x = s->d[i][0] / h, y = s->d[i][1] / h, w = 1.0 / tc__hypot(x, y);
-            double row[5] = {x, y, 0.5 * x * x, x * y, 0.5 * y * y};
-            for (int j = 0; j < cols; j++) A[i][j] = row[j] * w;
-            for (int ch = 0; ch < nc; ch++) B[i][ch] = (s->z[i][ch] - zv[ch]) * w;
-        }
-        if (tc__lsq_solve(A, s->n, cols, B, nc, 1e-9, X) == 0) {
-            for (int ch = 0; ch < nc; ch++) {
-                g[2 * ch] = X[0][ch] / h;
-                g[2 * ch + 1] = X[1][ch] / h;
-            }
-            return;
-        }
-    }
-    memset(g, 0, 2 * (size_t)nc * sizeof *g); /* unreachable: a face's two edges are independent */
-}
-
-static void estimate(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                     double *g) {
-    samples s;
-    s.n = 0;
-    gather(m, ws, w, cz, &s);
-    fit(&s, cz + (size_t)ws->corners[w->first] * m->nc, m->nc, g);
+/* The estimate of wedge w (tanfit.c), with the fit's work space made on first use. */
+static int estimate(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
+                    tc_fit_space *fs, double *g) {
+    if (!fs->tmark && tc__fit_space_init(m, fs) != TC_OK) return TC_ENOMEM;
+    tc__fit_wedge(m, ws, w, cz, fs, g);
+    return TC_OK;
 }
 
 /* ---- per corner ---- */
@@ -212,7 +135,8 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
     size_t stride = 2 * (size_t)m->nc;
     int st = TC_OK;
     clamp_stats cs = {0, -1, 1};
-    for (int32_t w = 0; w < ws->nw; w++) {
+    tc_fit_space fs = {0};
+    for (int32_t w = 0; w < ws->nw && st != TC_ENOMEM; w++) {
         const tc_wedge *wd = &ws->w[w];
         double est[2 * TC_MAX_CHANNELS];
         int estimated = 0;
@@ -227,15 +151,20 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
                 break;
             case SRC_ESTIMATE: /* one fit per wedge, shared by its corners */
                 if (!estimated++) {
-                    estimate(m, ws, wd, cz, est);
+                    if (estimate(m, ws, wd, cz, &fs, est) != TC_OK) {
+                        st = TC_ENOMEM;
+                        break;
+                    }
                     note_clamp(&cs, bound_plane(m, ws, wd, cz, est), wd->v);
                 }
                 memcpy(g, est, stride * sizeof *g);
                 break;
             default: st = TC_EINVAL;
             }
+            if (st == TC_ENOMEM) break;
         }
     }
+    tc__fit_space_free(&fs);
     if (st == TC_OK) warn_clamps(&cs, dg);
     return st;
 }
