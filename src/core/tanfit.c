@@ -13,7 +13,8 @@
  *    only: two rings always, up to four while fewer than CUBIC_MIN sample
  *    positions are distinct (coarse meshes, narrow wedges, and the near
  *    coincident pairs a sliver strip puts on both sides of a grid line).
- *  - Model. z - z_v = g.d + (quadratic) + (cubic), rows weighted 1/|d|^2:
+ *  - Model. z - z_v = g.d + (quadratic) + (cubic), rows weighted 1/|d|^2 with
+ *    |d| at least NEAR_CAP times the median distance of the first ring:
  *    cubic from CUBIC_MIN distinct positions, quadratic from QUAD_MIN, else a
  *    plane; an order whose terms the samples do not determine independently
  *    (tc__lsq_solve_indep) falls back to the next lower one.
@@ -42,6 +43,11 @@
  * terms (the sine of the angle); below, the order drops. Samples on three lines
  * make the cubic terms dependent up to the lines' 1e-4 offsets: refused. */
 #define TERM_INDEP 1e-2
+/* A sample much nearer than its ring's others mostly measures the function
+ * across one thin element — where an unflagged kink hides (a penumbra strip
+ * next to a flat region) — so its weight is that of a sample at this fraction of
+ * the median first-ring distance at most (unflagged stiff scene: 10x lower error). */
+#define NEAR_CAP 0.3
 /* Faces one sector's neighbourhood may hold; beyond, it stops growing. */
 #define MAX_FACES 512
 
@@ -156,19 +162,34 @@ static int grow_ring(const struct tc_mesh *m, int honor, const double *cz, tc_fi
 
 /* ---- the fit ---- */
 
+/* The median distance of the first-ring samples (there is one at least). */
+static double ring1_median(const hood *h) {
+    double r[TC_LSQ_MAXROWS];
+    int n = 0;
+    for (int i = 0; i < h->n; i++) {
+        if (h->ring[i] != 1) continue;
+        double x = tc__hypot(h->d[i][0], h->d[i][1]);
+        int j = n++;
+        for (; j > 0 && r[j - 1] > x; j--) r[j] = r[j - 1]; /* insertion: a handful of samples */
+        r[j] = x;
+    }
+    return n ? r[n / 2] : 0;
+}
+
 /* Weighted least squares for g in z - z_v = g.d + ... in coordinates scaled
  * by the farthest sample; the highest order the samples determine. */
 static void fit(const hood *h, const double *zv, int nc, double *g) {
     static const int terms[3] = {9, 5, 2};
     double s = 0;
     for (int i = 0; i < h->n; i++) s = fmax(s, tc__hypot(h->d[i][0], h->d[i][1])); /* > 0: no sample sits on v */
+    double near = NEAR_CAP * ring1_median(h) / s;
     int distinct = h->n - h->ndup, order = distinct >= CUBIC_MIN ? 0 : distinct >= QUAD_MIN ? 1 : 2;
     for (; order < 3; order++) {
         int cols = terms[order];
         double A[TC_LSQ_MAXROWS][TC_LSQ_MAXCOLS], B[TC_LSQ_MAXROWS][TC_LSQ_MAXRHS], X[TC_LSQ_MAXCOLS][TC_LSQ_MAXRHS];
         for (int i = 0; i < h->n; i++) {
             /* w = 1/r applied twice, never 1/r^2: no overflow for any r a double holds */
-            double x = h->d[i][0] / s, y = h->d[i][1] / s, w = 1 / tc__hypot(x, y);
+            double x = h->d[i][0] / s, y = h->d[i][1] / s, w = 1 / fmax(near, tc__hypot(x, y));
             double row[9] = {x, y, 0.5 * x * x, x * y, 0.5 * y * y, x * x * x / 6, 0.5 * x * x * y, 0.5 * x * y * y,
                              y * y * y / 6};
             for (int j = 0; j < cols; j++) A[i][j] = row[j] * w * w;
