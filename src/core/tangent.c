@@ -30,14 +30,6 @@ static void from_midpoints(const struct tc_mesh *m, const double *cz, int32_t c,
     }
 }
 
-/* The estimate of wedge w (tanfit.c), with the fit's work space made on first use. */
-static int estimate(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                    tc_fit_space *fs, double *g) {
-    if (!fs->tmark && tc__fit_space_init(m, fs) != TC_OK) return TC_ENOMEM;
-    tc__fit_wedge(m, ws, w, cz, fs, g);
-    return TC_OK;
-}
-
 /* ---- per corner ---- */
 
 enum { SRC_GIVEN, SRC_MIDPOINTS, SRC_ESTIMATE };
@@ -72,26 +64,63 @@ static int source_of(const struct tc_mesh *m, int32_t c, tc_tangents mode, tc_di
     return -1;
 }
 
-/* ---- bounding estimated planes ---- */
+/* ---- bounding planes ---- */
 
-/* An estimated plane may move an edge ordinate (z_v + g.e/3) at most this many
- * times the spread of the data in its wedge away from z_v. Exact planes of
- * smooth data stay far inside it (|g.e| is about the change of z along e); a
- * plane from three nearly collinear samples on a sliver does not. */
+/* A plane from samples (estimated, or the midpoint parabolas) may move an edge
+ * ordinate (z_v + g.e/3) at most this many times the spread of the data in its
+ * wedge away from z_v. Exact planes of smooth data stay far inside it (|g.e| is
+ * about the change of z along e); a plane from three nearly collinear samples
+ * on a sliver does not. */
 #define PLANE_BOUND 4.0
 
-typedef struct {
-    int32_t clamped, worst_vertex;
-    double worst_factor; /* the largest slope reduction applied */
-} clamp_stats;
+/* Data flat to within this fraction of its channel's scale (largest |value|)
+ * carries no slope: one unit in the sixth significant digit of a value is at
+ * most 1e-5 of it, the printing noise real front-ends send (issue 12), and far
+ * below what a display shows (1/255 = 3.9e-3). Bounding such a wedge's plane,
+ * to 0 when its values are equal, is what the data says, not news. */
+#define FLAT_NOISE 1e-5
 
-/* Scales the estimated plane g of corner c down, channel by channel, so that no
- * edge of its wedge's faces sees |g.e| > PLANE_BOUND * (spread of the values
- * of the wedge's corners). Returns the factor applied (1: untouched). */
-static double bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                          double *g) {
+/* A bounded plane is reported when it moves some edge ordinate by more than
+ * this fraction of its channel's range: a quarter of an 8-bit grey level at
+ * full range, the least change a picture could show. */
+#define CLAMP_MATERIAL 1e-3
+
+/* How many bounded planes a warning lists by vertex. */
+#define CLAMP_LIST 5
+
+typedef struct {
+    double scale[TC_MAX_CHANNELS]; /* largest |corner value| */
+    double range[TC_MAX_CHANNELS]; /* largest - smallest corner value */
+} chan_stats;
+
+static void channel_stats(const struct tc_mesh *m, const double *cz, chan_stats *cs) {
     int nc = m->nc;
-    double worst = 1;
+    for (int ch = 0; ch < nc; ch++) {
+        double lo = INFINITY, hi = -INFINITY, big = 0;
+        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
+            double z = cz[c * nc + ch];
+            if (z < lo) lo = z; /* finite (a mesh invariant): plain compares, not libm calls */
+            if (z > hi) hi = z;
+            if (fabs(z) > big) big = fabs(z);
+        }
+        cs->scale[ch] = big, cs->range[ch] = m->nt ? hi - lo : 0;
+    }
+}
+
+/* What bounding did to one plane, over the channels where it mattered. */
+typedef struct {
+    double factor; /* the smallest slope factor applied (1: untouched) */
+    double moved;  /* the largest edge-ordinate change over the channel's range */
+} bound_effect;
+
+/* Scales plane g of wedge w down, channel by channel, so that no edge of its
+ * faces sees |g.e| > PLANE_BOUND * (spread of the wedge's corner values). A
+ * channel counts in the effect only where its wedge is not flat to the noise
+ * and the change is material (CLAMP_MATERIAL); else the effect stays {1, 0}. */
+static bound_effect bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w,
+                                const double *cz, const chan_stats *st, double *g) {
+    int nc = m->nc;
+    bound_effect fx = {1, 0};
     for (int ch = 0; ch < nc; ch++) {
         double lo = INFINITY, hi = -INFINITY, rise = 0, *gc = g + 2 * ch;
         for (int32_t i = 0; i < w->count; i++) {
@@ -104,38 +133,85 @@ static double bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const
             }
         }
         double limit = PLANE_BOUND * (hi - lo);
-        if (rise > limit) { /* limit may be 0: flat data, flat plane */
-            double f = limit > 0 ? limit / rise : 0;
-            gc[0] *= f, gc[1] *= f;
-            worst = fmin(worst, f);
-        }
+        if (!(rise > limit)) continue;
+        double f = limit > 0 ? limit / rise : 0; /* limit 0: flat data, flat plane */
+        gc[0] *= f, gc[1] *= f;
+        double moved = (1 - f) * rise / 3; /* the most an edge ordinate z_v + g.e/3 moved */
+        if (hi - lo <= FLAT_NOISE * st->scale[ch] || !(moved > CLAMP_MATERIAL * st->range[ch])) continue;
+        fx.factor = fmin(fx.factor, f);
+        fx.moved = fmax(fx.moved, moved / st->range[ch]);
     }
-    return worst;
+    return fx;
 }
 
-static void note_clamp(clamp_stats *cs, double f, int32_t v) {
-    if (f >= 1) return;
-    cs->clamped++;
-    if (cs->clamped == 1 || f < cs->worst_factor) cs->worst_factor = f, cs->worst_vertex = v;
+/* The material bounds of one reconstruction: how many of each source, the
+ * first few (by vertex) and the largest. */
+typedef struct {
+    int32_t v;
+    bound_effect fx;
+    int estimated; /* else from midpoint samples */
+} clamp_entry;
+
+typedef struct {
+    int32_t count[2]; /* [0] from midpoint samples, [1] estimated */
+    int nlist;
+    clamp_entry list[CLAMP_LIST], worst;
+} clamp_report;
+
+static void note_clamp(clamp_report *cr, bound_effect fx, int32_t v, int estimated) {
+    if (!(fx.moved > 0)) return;
+    clamp_entry e = {v, fx, estimated};
+    if (cr->count[0] + cr->count[1] == 0 || fx.moved > cr->worst.fx.moved) cr->worst = e;
+    cr->count[estimated != 0]++;
+    if (cr->nlist < CLAMP_LIST && (cr->nlist == 0 || cr->list[cr->nlist - 1].v != v)) cr->list[cr->nlist++] = e;
 }
 
-/* One warning for all the planes bounded, naming the worst. */
-static void warn_clamps(const clamp_stats *cs, tc_diags *dg) {
-    if (!cs->clamped) return;
+/* One warning per listed vertex (its path names it; what moved, why, what to
+ * send instead), and one more when there were more than the list holds. */
+static void warn_clamps(const clamp_report *cr, tc_diags *dg) {
     char path[48];
-    snprintf(path, sizeof path, "vertices[%d]", (int)cs->worst_vertex);
+    for (int i = 0; i < cr->nlist; i++) {
+        const clamp_entry *e = &cr->list[i];
+        snprintf(path, sizeof path, "vertices[%d]", (int)e->v);
+        if (e->estimated)
+            tc_diags_add(dg, TC_SEV_WARNING, path,
+                         "estimated tangent plane too steep for its wedge's data: scaled to %.3g of its slope, edge "
+                         "ordinates moved %.3g of the channel's range (a sliver, or a kink no flag marks?): flag it, "
+                         "or send gradients",
+                         e->fx.factor, e->fx.moved);
+        else
+            tc_diags_add(dg, TC_SEV_WARNING, path,
+                         "tangent plane from midpoint samples too steep for its wedge's data: scaled to %.3g of its "
+                         "slope, edge ordinates moved %.3g of the channel's range (a sliver's sharp corner?): send "
+                         "gradients",
+                         e->fx.factor, e->fx.moved);
+    }
+    int32_t total = cr->count[0] + cr->count[1];
+    if (total <= cr->nlist) return;
+    snprintf(path, sizeof path, "vertices[%d]", (int)cr->worst.v);
     tc_diags_add(dg, TC_SEV_WARNING, path,
-                 "%d estimated tangent planes were too steep for their data and were scaled down; the most, at "
-                 "vertex %d, to %.3g of its slope (ill-conditioned samples, e.g. slivers)",
-                 (int)cs->clamped, (int)cs->worst_vertex, cs->worst_factor);
+                 "%d tangent planes were scaled down in all (%d estimated, %d from midpoint samples); warnings name the "
+                 "first %d; the largest change, %.3g of the channel's range, is at vertex %d",
+                 (int)total, (int)cr->count[1], (int)cr->count[0], cr->nlist, cr->worst.fx.moved, (int)cr->worst.v);
+}
+
+/* The estimate of wedge w, with the fit's work space made on first use. */
+static int estimate(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
+                    tc_fit_space *fs, double *g) {
+    if (!fs->tmark && tc__fit_space_init(m, fs) != TC_OK) return TC_ENOMEM;
+    tc__fit_wedge(m, ws, w, cz, fs, g);
+    return TC_OK;
 }
 
 int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, tc_tangents mode,
                       double *in, tc_diags *dg) {
     size_t stride = 2 * (size_t)m->nc;
     int st = TC_OK;
-    clamp_stats cs = {0, -1, 1};
+    clamp_report cr;
+    memset(&cr, 0, sizeof cr);
+    chan_stats cs;
     tc_fit_space fs = {0};
+    channel_stats(m, cz, &cs);
     for (int32_t w = 0; w < ws->nw && st != TC_ENOMEM; w++) {
         const tc_wedge *wd = &ws->w[w];
         double est[2 * TC_MAX_CHANNELS];
@@ -147,7 +223,7 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
             case SRC_GIVEN: memcpy(g, m->cg + (size_t)c * stride, stride * sizeof *g); break;
             case SRC_MIDPOINTS:
                 from_midpoints(m, cz, c, g);
-                note_clamp(&cs, bound_plane(m, ws, wd, cz, g), wd->v);
+                note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, g), wd->v, 0);
                 break;
             case SRC_ESTIMATE: /* one fit per wedge, shared by its corners */
                 if (!estimated++) {
@@ -155,7 +231,7 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
                         st = TC_ENOMEM;
                         break;
                     }
-                    note_clamp(&cs, bound_plane(m, ws, wd, cz, est), wd->v);
+                    note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, est), wd->v, 1);
                 }
                 memcpy(g, est, stride * sizeof *g);
                 break;
@@ -165,6 +241,6 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
         }
     }
     tc__fit_space_free(&fs);
-    if (st == TC_OK) warn_clamps(&cs, dg);
+    if (st == TC_OK) warn_clamps(&cr, dg);
     return st;
 }
