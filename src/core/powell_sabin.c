@@ -273,7 +273,8 @@ static void warn_c0(const struct tc_mesh *m, tc_diags *dg) {
     for (int32_t e = 0; e < 3 * m->nt; e++) n += m->flag[e] == TC_C0 && m->nbr[e] > e / 3;
     if (n)
         tc_diags_add(dg, TC_SEV_WARNING, "discontinuities.c0",
-                     "powell-sabin cannot honour C0 flags; they are treated as C1 (%d edges)", (int)n);
+                     "powell-sabin cannot honour C0 flags; they are treated as C1 (%d edges): the kinks are smoothed, "
+                     "use clough-tocher to keep them", (int)n);
 }
 
 int tc__ps_build(struct tc_recon *r, tc_diags *dg) {
