@@ -3,7 +3,7 @@
  * samples around the wedge's vertex, never across a delimiter.
  *
  * Three choices, each measured on the report's scenes (docs/design-notes.md,
- * "Estimated tangent planes"):
+ * "Tangent planes", with the alternatives that lost):
  *  - Sectors. A C1 vertex where two flagged edges meet at an angle (a penumbra's
  *    corner: the paper makes it C1) has one wedge spanning regions in which the
  *    function is smooth only piecewise. Each sector between flagged edges is
@@ -32,8 +32,12 @@
 #include "core/lsq.h"
 #include "core/tanfit.h"
 
+/* Two vertex rings give a cubic 18 samples on a regular mesh; narrow wedges and
+ * coarse meshes grow to four while fewer than CUBIC_MIN positions are distinct. */
 #define RINGS_ALWAYS 2
 #define RINGS_MAX 4
+/* Distinct positions for a cubic (9 terms) and a quadratic (5): a third more
+ * than the terms, so one bad sample cannot be interpolated exactly. */
 #define CUBIC_MIN 12
 #define QUAD_MIN 6
 /* Two samples closer than this fraction of their distance from the vertex count
@@ -55,7 +59,7 @@ int tc__fit_space_init(const struct tc_mesh *m, tc_fit_space *fs) {
     fs->tmark = tc__calloc((size_t)m->nt, sizeof *fs->tmark);
     fs->vmark = tc__calloc((size_t)m->nv, sizeof *fs->vmark);
     fs->vsample = tc__calloc((size_t)m->nv, sizeof *fs->vsample);
-    fs->gen = 0;
+    fs->gen = 0; /* one per sector fit, < 3 nt < 2^31: never wraps onto a stale mark */
     if (!fs->tmark || !fs->vmark || !fs->vsample) {
         tc__fit_space_free(fs);
         return TC_ENOMEM;
