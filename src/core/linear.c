@@ -1,7 +1,9 @@
 /* linear.c — the baselines tocher is measured against: constant (one value per
  * triangle), linear (Gouraud) and linear4 (the paper's 4-split through midpoint samples). */
+#include <stdio.h>
 #include <string.h>
 
+#include "core/internal.h"
 #include "core/recon.h"
 
 const char *const tc__constant_labels[1] = {"mean"};
@@ -32,13 +34,44 @@ int tc__linear_build(struct tc_recon *r, tc_diags *dg) {
     return TC_OK;
 }
 
+/* The edges linear4 had to make linear: how many, and the first few to name. */
+#define MISSING_LIST 3
+typedef struct {
+    int32_t count, nlist, t;
+    int32_t edge[MISSING_LIST][2];
+} missing_mids;
+
+static void note_missing(const struct tc_mesh *m, missing_mids *mm, int32_t t, int k) {
+    if (mm->count++ == 0) mm->t = t;
+    if (mm->nlist == MISSING_LIST) return;
+    mm->edge[mm->nlist][0] = m->tri[3 * (size_t)t + k];
+    mm->edge[mm->nlist++][1] = m->tri[3 * (size_t)t + (k + 1) % 3];
+}
+
+/* One warning at the first triangle concerned, naming the first edges. */
+static void warn_missing(const struct tc_mesh *m, const missing_mids *mm, tc_diags *dg) {
+    if (!mm->count) return;
+    char path[48], edges[MISSING_LIST * 28 + 16] = "";
+    size_t len = 0;
+    for (int i = 0; i < mm->nlist; i++)
+        len += (size_t)snprintf(edges + len, sizeof edges - len, "%s[%d, %d]", i ? ", " : "", (int)mm->edge[i][0],
+                                (int)mm->edge[i][1]);
+    if (mm->count > mm->nlist) snprintf(edges + len, sizeof edges - len, ", ...");
+    tc__elem_path(m, mm->t, path, sizeof path);
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "%d triangle edge side%s no midpoint sample (edges %s); linear4 is linear along them: send "
+                 "their samples in \"midpoints\", or use linear",
+                 (int)mm->count, mm->count > 1 ? "s have" : " has", edges);
+}
+
 /* Corner values then the midpoint samples of edges 0 (uv), 1 (vw), 2 (wu). An
  * edge without a sample gets the mean of its ends: linear along that edge. */
 int tc__linear4_build(struct tc_recon *r, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
     double *coef = r->coef;
     int nc = m->nc;
-    int32_t missing = 0;
+    missing_mids mm;
+    memset(&mm, 0, sizeof mm);
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++) {
             double *o = coef + ((size_t)t * nc + ch) * 6;
@@ -49,13 +82,11 @@ int tc__linear4_build(struct tc_recon *r, tc_diags *dg) {
                     o[3 + k] = m->mid[e * nc + ch];
                 } else {
                     o[3 + k] = 0.5 * (o[k] + o[(k + 1) % 3]);
-                    missing += ch == 0;
+                    if (ch == 0) note_missing(m, &mm, t, k);
                 }
             }
         }
-    if (missing)
-        tc_diags_add(dg, TC_SEV_WARNING, "midpoints",
-                     "%d triangle edge sides have no midpoint sample; linear4 is linear along them", (int)missing);
+    warn_missing(m, &mm, dg);
     return TC_OK;
 }
 

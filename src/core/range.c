@@ -114,7 +114,8 @@ int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
             double bend = bulge(m, cz, cg, t, ch);
             if (per_quad && m->nq) bend = fmax(bend, bulge(m, cz, cg, t ^ 1, ch));
             double margin = fmax(TC_RANGE_MARGIN * (hi - lo), TC_RANGE_WHOLE * whole[ch]);
-            double up = fmin(TC_RANGE_BULGE * bend, fmax(0, rhi - hi)), down = fmin(TC_RANGE_BULGE * bend, fmax(0, lo - rlo));
+            double up = TC_RANGE_BULGE * bend, down = up;
+            if (TC_RANGE_AROUND) up = fmin(up, fmax(0, rhi - hi)), down = fmin(down, fmax(0, lo - rlo));
             if (mode == TC_RANGE_POSITIVE) {
                 b->lo[i] = floor;
                 b->hi[i] = INFINITY;

@@ -144,7 +144,8 @@ static void warn_c0_ignored(const struct tc_recon *r, tc_diags *dg) {
     if (r->method->honour != TC_HONOR_CM1) return;
     for (int32_t e = 0; e < 3 * m->nt; e++) n += m->flag[e] == TC_C0 && m->nbr[e] > e / 3;
     if (n)
-        tc_diags_add(dg, TC_SEV_WARNING, "discontinuities.c0", "%s cannot honour C0 flags; they are treated as C1 (%d edges)",
+        tc_diags_add(dg, TC_SEV_WARNING, "discontinuities.c0", "%s cannot honour C0 flags; they are treated as C1 (%d edges): the kinks are "
+                     "smoothed, use clough-tocher to keep them",
                      r->method->name, (int)n);
 }
 

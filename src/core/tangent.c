@@ -1,6 +1,6 @@
 /* tangent.c — where each corner's tangent plane comes from before wedges are
  * reconciled: given (gradient or normal), the paper's midpoint parabolas, or a
- * least-squares fit to samples inside the corner's wedge (never across a delimiter). */
+ * least-squares fit to samples around the corner's wedge (tanfit.c, never across a delimiter). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -8,8 +8,8 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/internal.h"
-#include "core/lsq.h"
 #include "core/plane.h"
+#include "core/tanfit.h"
 #include "core/tangent.h"
 
 /* Paper §3.3: the parabola through z_v, the midpoint sample and z_p along edge
@@ -28,91 +28,6 @@ static void from_midpoints(const struct tc_mesh *m, const double *cz, int32_t c,
         double sq = 4 * mqv[ch] - 3 * zv - cz[cq * nc + ch];
         tc__solve2(dp, dq, sp, sq, g + 2 * ch);
     }
-}
-
-/* ---- least squares within a wedge ---- */
-
-typedef struct {
-    int n;
-    int64_t key[TC_LSQ_MAXROWS]; /* vertex id, or -1 - edge id for a midpoint */
-    double d[TC_LSQ_MAXROWS][2]; /* position relative to the wedge's vertex */
-    const double *z[TC_LSQ_MAXROWS];
-} samples;
-
-static void add_sample(samples *s, int64_t key, const double d[2], const double *z) {
-    for (int i = 0; i < s->n; i++)
-        if (s->key[i] == key) return;
-    if (s->n == TC_LSQ_MAXROWS) return;
-    s->key[s->n] = key;
-    s->d[s->n][0] = d[0];
-    s->d[s->n][1] = d[1];
-    s->z[s->n++] = z;
-}
-
-static void add_vertex(const struct tc_mesh *m, const double *cz, samples *s, int32_t v, int32_t c) {
-    double d[2];
-    tc__sub(d, tc__vxy(m, m->tri[c]), tc__vxy(m, v));
-    add_sample(s, m->tri[c], d, cz + (size_t)c * m->nc);
-}
-
-static void add_midpoint(const struct tc_mesh *m, samples *s, int32_t v, int32_t e) {
-    if (!m->mid_has || !m->mid_has[e]) return;
-    int32_t t = e / 3, k = e % 3, other = m->nbr[e] >= 0 ? 3 * m->nbr[e] + m->nbr_k[e] : e;
-    const double *a = tc__vxy(m, m->tri[e]), *b = tc__vxy(m, m->tri[3 * t + (k + 1) % 3]), *p = tc__vxy(m, v);
-    double d[2] = {0.5 * ((a[0] - p[0]) + (b[0] - p[0])), 0.5 * ((a[1] - p[1]) + (b[1] - p[1]))};
-    add_sample(s, -1 - (int64_t)(e < other ? e : other), d, m->mid + (size_t)e * m->nc);
-}
-
-/* The 1-ring of the wedge (vertices and midpoint samples of its faces); if
- * that is too few for a quadratic, the faces across the wedge's outer C1 edges. */
-static void gather(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                   samples *s) {
-    for (int32_t i = 0; i < w->count; i++) {
-        int32_t c = ws->corners[w->first + i], t = c / 3, k = c % 3;
-        add_vertex(m, cz, s, w->v, 3 * t + (k + 1) % 3);
-        add_vertex(m, cz, s, w->v, 3 * t + (k + 2) % 3);
-        for (int j = 0; j < 3; j++) add_midpoint(m, s, w->v, 3 * t + j);
-    }
-    if (s->n >= 6) return;
-    for (int32_t i = 0; i < w->count; i++) {
-        int32_t c = ws->corners[w->first + i], t = c / 3, k = c % 3, e = 3 * t + (k + 1) % 3;
-        if (m->nbr[e] < 0 || tc__eff_flag(m, ws->honor_flags, e) != TC_C1) continue;
-        int32_t t2 = m->nbr[e], k2 = m->nbr_k[e];
-        add_vertex(m, cz, s, w->v, 3 * t2 + (k2 + 2) % 3);
-    }
-}
-
-/* Weighted fit of z - z_v = g.d (+ 1/2 d'Hd when there are enough samples),
- * in coordinates scaled by the farthest sample and rows weighted by 1/|d| so
- * near samples count more; exact for quadratics when the quadratic fit runs. */
-static void fit(const samples *s, const double *zv, int nc, double *g) {
-    double h = 0;
-    for (int i = 0; i < s->n; i++) h = fmax(h, tc__hypot(s->d[i][0], s->d[i][1]));
-    for (int cols = s->n >= 6 ? 5 : 2; cols >= 2; cols -= 3) {
-        double A[TC_LSQ_MAXROWS][TC_LSQ_MAXCOLS], B[TC_LSQ_MAXROWS][TC_LSQ_MAXRHS], X[TC_LSQ_MAXCOLS][TC_LSQ_MAXRHS];
-        for (int i = 0; i < s->n; i++) {
-            double x = s->d[i][0] / h, y = s->d[i][1] / h, w = 1.0 / tc__hypot(x, y);
-            double row[5] = {x, y, 0.5 * x * x, x * y, 0.5 * y * y};
-            for (int j = 0; j < cols; j++) A[i][j] = row[j] * w;
-            for (int ch = 0; ch < nc; ch++) B[i][ch] = (s->z[i][ch] - zv[ch]) * w;
-        }
-        if (tc__lsq_solve(A, s->n, cols, B, nc, 1e-9, X) == 0) {
-            for (int ch = 0; ch < nc; ch++) {
-                g[2 * ch] = X[0][ch] / h;
-                g[2 * ch + 1] = X[1][ch] / h;
-            }
-            return;
-        }
-    }
-    memset(g, 0, 2 * (size_t)nc * sizeof *g); /* unreachable: a face's two edges are independent */
-}
-
-static void estimate(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                     double *g) {
-    samples s;
-    s.n = 0;
-    gather(m, ws, w, cz, &s);
-    fit(&s, cz + (size_t)ws->corners[w->first] * m->nc, m->nc, g);
 }
 
 /* ---- per corner ---- */
@@ -149,26 +64,63 @@ static int source_of(const struct tc_mesh *m, int32_t c, tc_tangents mode, tc_di
     return -1;
 }
 
-/* ---- bounding estimated planes ---- */
+/* ---- bounding planes ---- */
 
-/* An estimated plane may move an edge ordinate (z_v + g.e/3) at most this many
- * times the spread of the data in its wedge away from z_v. Exact planes of
- * smooth data stay far inside it (|g.e| is about the change of z along e); a
- * plane from three nearly collinear samples on a sliver does not. */
+/* A plane from samples (estimated, or the midpoint parabolas) may move an edge
+ * ordinate (z_v + g.e/3) at most this many times the spread of the data in its
+ * wedge away from z_v. Exact planes of smooth data stay far inside it (|g.e| is
+ * about the change of z along e); a plane from three nearly collinear samples
+ * on a sliver does not. */
 #define PLANE_BOUND 4.0
 
-typedef struct {
-    int32_t clamped, worst_vertex;
-    double worst_factor; /* the largest slope reduction applied */
-} clamp_stats;
+/* Data flat to within this fraction of its channel's scale (largest |value|)
+ * carries no slope: one unit in the sixth significant digit of a value is at
+ * most 1e-5 of it, the printing noise real front-ends send (issue 12), and far
+ * below what a display shows (1/255 = 3.9e-3). Bounding such a wedge's plane,
+ * to 0 when its values are equal, is what the data says, not news. */
+#define FLAT_NOISE 1e-5
 
-/* Scales the estimated plane g of corner c down, channel by channel, so that no
- * edge of its wedge's faces sees |g.e| > PLANE_BOUND * (spread of the values
- * of the wedge's corners). Returns the factor applied (1: untouched). */
-static double bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                          double *g) {
+/* A bounded plane is reported when it moves some edge ordinate by more than
+ * this fraction of its channel's range: a quarter of an 8-bit grey level at
+ * full range, the least change a picture could show. */
+#define CLAMP_MATERIAL 1e-3
+
+/* How many bounded planes a warning lists by vertex. */
+#define CLAMP_LIST 5
+
+typedef struct {
+    double scale[TC_MAX_CHANNELS]; /* largest |corner value| */
+    double range[TC_MAX_CHANNELS]; /* largest - smallest corner value */
+} chan_stats;
+
+static void channel_stats(const struct tc_mesh *m, const double *cz, chan_stats *cs) {
     int nc = m->nc;
-    double worst = 1;
+    for (int ch = 0; ch < nc; ch++) {
+        double lo = INFINITY, hi = -INFINITY, big = 0;
+        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
+            double z = cz[c * nc + ch];
+            if (z < lo) lo = z; /* finite (a mesh invariant): plain compares, not libm calls */
+            if (z > hi) hi = z;
+            if (fabs(z) > big) big = fabs(z);
+        }
+        cs->scale[ch] = big, cs->range[ch] = m->nt ? hi - lo : 0;
+    }
+}
+
+/* What bounding did to one plane, over the channels where it mattered. */
+typedef struct {
+    double factor; /* the smallest slope factor applied (1: untouched) */
+    double moved;  /* the largest edge-ordinate change over the channel's range */
+} bound_effect;
+
+/* Scales plane g of wedge w down, channel by channel, so that no edge of its
+ * faces sees |g.e| > PLANE_BOUND * (spread of the wedge's corner values). A
+ * channel counts in the effect only where its wedge is not flat to the noise
+ * and the change is material (CLAMP_MATERIAL); else the effect stays {1, 0}. */
+static bound_effect bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w,
+                                const double *cz, const chan_stats *st, double *g) {
+    int nc = m->nc;
+    bound_effect fx = {1, 0};
     for (int ch = 0; ch < nc; ch++) {
         double lo = INFINITY, hi = -INFINITY, rise = 0, *gc = g + 2 * ch;
         for (int32_t i = 0; i < w->count; i++) {
@@ -181,38 +133,86 @@ static double bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const
             }
         }
         double limit = PLANE_BOUND * (hi - lo);
-        if (rise > limit) { /* limit may be 0: flat data, flat plane */
-            double f = limit > 0 ? limit / rise : 0;
-            gc[0] *= f, gc[1] *= f;
-            worst = fmin(worst, f);
-        }
+        if (!(rise > limit)) continue;
+        double f = limit > 0 ? limit / rise : 0; /* limit 0: flat data, flat plane */
+        gc[0] *= f, gc[1] *= f;
+        double moved = (1 - f) * rise / 3; /* the most an edge ordinate z_v + g.e/3 moved */
+        if (hi - lo <= FLAT_NOISE * st->scale[ch] || !(moved > CLAMP_MATERIAL * st->range[ch])) continue;
+        fx.factor = fmin(fx.factor, f);
+        fx.moved = fmax(fx.moved, moved / st->range[ch]);
     }
-    return worst;
+    return fx;
 }
 
-static void note_clamp(clamp_stats *cs, double f, int32_t v) {
-    if (f >= 1) return;
-    cs->clamped++;
-    if (cs->clamped == 1 || f < cs->worst_factor) cs->worst_factor = f, cs->worst_vertex = v;
+/* The material bounds of one reconstruction: how many of each source, the
+ * first few (by vertex) and the largest. */
+typedef struct {
+    int32_t v;
+    bound_effect fx;
+    int estimated; /* else from midpoint samples */
+} clamp_entry;
+
+typedef struct {
+    int32_t count[2]; /* [0] from midpoint samples, [1] estimated */
+    int nlist;
+    clamp_entry list[CLAMP_LIST], worst;
+} clamp_report;
+
+static void note_clamp(clamp_report *cr, bound_effect fx, int32_t v, int estimated) {
+    if (!(fx.moved > 0)) return;
+    clamp_entry e = {v, fx, estimated};
+    if (cr->count[0] + cr->count[1] == 0 || fx.moved > cr->worst.fx.moved) cr->worst = e;
+    cr->count[estimated != 0]++;
+    if (cr->nlist < CLAMP_LIST && (cr->nlist == 0 || cr->list[cr->nlist - 1].v != v)) cr->list[cr->nlist++] = e;
 }
 
-/* One warning for all the planes bounded, naming the worst. */
-static void warn_clamps(const clamp_stats *cs, tc_diags *dg) {
-    if (!cs->clamped) return;
+/* One warning per listed vertex (its path names it; what moved, why, what to
+ * send instead), and one more when there were more than the list holds. */
+static void warn_clamps(const clamp_report *cr, tc_diags *dg) {
     char path[48];
-    snprintf(path, sizeof path, "vertices[%d]", (int)cs->worst_vertex);
+    for (int i = 0; i < cr->nlist; i++) {
+        const clamp_entry *e = &cr->list[i];
+        snprintf(path, sizeof path, "vertices[%d]", (int)e->v);
+        if (e->estimated)
+            tc_diags_add(dg, TC_SEV_WARNING, path,
+                         "estimated tangent plane too steep for its wedge's data: scaled to %.3g of its slope, edge "
+                         "ordinates moved %.3g of the channel's range (a sliver, or a kink no flag marks?): flag it, "
+                         "or send gradients",
+                         e->fx.factor, e->fx.moved);
+        else
+            tc_diags_add(dg, TC_SEV_WARNING, path,
+                         "tangent plane from midpoint samples too steep for its wedge's data: scaled to %.3g of its "
+                         "slope, edge ordinates moved %.3g of the channel's range (a sliver's sharp corner?): send "
+                         "gradients",
+                         e->fx.factor, e->fx.moved);
+    }
+    int32_t total = cr->count[0] + cr->count[1];
+    if (total <= cr->nlist) return;
+    snprintf(path, sizeof path, "vertices[%d]", (int)cr->worst.v);
     tc_diags_add(dg, TC_SEV_WARNING, path,
-                 "%d estimated tangent planes were too steep for their data and were scaled down; the most, at "
-                 "vertex %d, to %.3g of its slope (ill-conditioned samples, e.g. slivers)",
-                 (int)cs->clamped, (int)cs->worst_vertex, cs->worst_factor);
+                 "%d tangent planes were scaled down in all (%d estimated, %d from midpoint samples); warnings name the "
+                 "first %d; the largest change, %.3g of the channel's range, is at vertex %d",
+                 (int)total, (int)cr->count[1], (int)cr->count[0], cr->nlist, cr->worst.fx.moved, (int)cr->worst.v);
+}
+
+/* The estimate of wedge w, with the fit's work space made on first use. */
+static int estimate(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
+                    tc_fit_space *fs, double *g) {
+    if (!fs->tmark && tc__fit_space_init(m, fs) != TC_OK) return TC_ENOMEM;
+    tc__fit_wedge(m, ws, w, cz, fs, g);
+    return TC_OK;
 }
 
 int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, tc_tangents mode,
                       double *in, tc_diags *dg) {
     size_t stride = 2 * (size_t)m->nc;
     int st = TC_OK;
-    clamp_stats cs = {0, -1, 1};
-    for (int32_t w = 0; w < ws->nw; w++) {
+    clamp_report cr;
+    memset(&cr, 0, sizeof cr);
+    chan_stats cs;
+    tc_fit_space fs = {0};
+    channel_stats(m, cz, &cs);
+    for (int32_t w = 0; w < ws->nw && st != TC_ENOMEM; w++) {
         const tc_wedge *wd = &ws->w[w];
         double est[2 * TC_MAX_CHANNELS];
         int estimated = 0;
@@ -223,19 +223,24 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
             case SRC_GIVEN: memcpy(g, m->cg + (size_t)c * stride, stride * sizeof *g); break;
             case SRC_MIDPOINTS:
                 from_midpoints(m, cz, c, g);
-                note_clamp(&cs, bound_plane(m, ws, wd, cz, g), wd->v);
+                note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, g), wd->v, 0);
                 break;
             case SRC_ESTIMATE: /* one fit per wedge, shared by its corners */
                 if (!estimated++) {
-                    estimate(m, ws, wd, cz, est);
-                    note_clamp(&cs, bound_plane(m, ws, wd, cz, est), wd->v);
+                    if (estimate(m, ws, wd, cz, &fs, est) != TC_OK) {
+                        st = TC_ENOMEM;
+                        break;
+                    }
+                    note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, est), wd->v, 1);
                 }
                 memcpy(g, est, stride * sizeof *g);
                 break;
             default: st = TC_EINVAL;
             }
+            if (st == TC_ENOMEM) break;
         }
     }
-    if (st == TC_OK) warn_clamps(&cs, dg);
+    tc__fit_space_free(&fs);
+    if (st == TC_OK) warn_clamps(&cr, dg);
     return st;
 }

@@ -283,6 +283,42 @@ static int literal(const ctx *x, int32_t wi, int ch, double out[2], double *amp)
     return 0;
 }
 
+/* The literal Projects that amplified the gradient past PROJECT_WARN: how
+ * many, the first vertices (in vertex order) and the worst. */
+#define AMP_LIST 3
+typedef struct {
+    int count, nfirst;
+    int32_t first[AMP_LIST], worst_v;
+    double worst;
+} amp_report;
+
+static void note_amp(amp_report *a, double amp, int32_t v) {
+    if (!(amp > PROJECT_WARN)) return;
+    if (a->count++ == 0 || amp > a->worst) a->worst = amp, a->worst_v = v;
+    if (a->nfirst < AMP_LIST && (a->nfirst == 0 || a->first[a->nfirst - 1] != v)) a->first[a->nfirst++] = v;
+}
+
+/* One warning at the worst vertex, listing the first ones too. */
+static void warn_amp(const amp_report *a, tc_diags *dg) {
+    if (!a->count) return;
+    char path[48], at[AMP_LIST * 16 + 16] = "";
+    snprintf(path, sizeof path, "vertices[%d]", (int)a->worst_v);
+    if (a->count == 1) {
+        tc_diags_add(dg, TC_SEV_WARNING, path,
+                     "the wedge plane (literal Project) at vertex %d amplifies the gradient %.3gx, more than %.0fx "
+                     "(1 + a*s near 0): wedges \"corrected\" does not", (int)a->worst_v, a->worst, PROJECT_WARN);
+        return;
+    }
+    size_t len = 0;
+    for (int i = 0; i < a->nfirst; i++)
+        len += (size_t)snprintf(at + len, sizeof at - len, "%s%d", i ? ", " : "", (int)a->first[i]);
+    if (a->count > a->nfirst) snprintf(at + len, sizeof at - len, " and others");
+    tc_diags_add(dg, TC_SEV_WARNING, path,
+                 "%d wedge planes (literal Project) amplify the gradient more than %.0fx, at vertices %s; the worst, "
+                 "vertex %d, %.3gx (1 + a*s near 0): wedges \"corrected\" does not",
+                 a->count, PROJECT_WARN, at, (int)a->worst_v, a->worst);
+}
+
 /* For every wedge, the area-weighted mean of the average planes of all the
  * wedges at its vertex (wedges of one vertex are contiguous in ws->w). */
 static void vertex_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *avg, double *vplane) {
@@ -323,9 +359,9 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
     }
     vertex_planes(m, ws, avg, vplane);
     ctx x = {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED};
-    int st = TC_OK, namp = 0;
-    double worst = 0;
-    int32_t worst_v = -1;
+    int st = TC_OK;
+    amp_report amps;
+    memset(&amps, 0, sizeof amps);
     for (int32_t w = 0; w < ws->nw && st == TC_OK; w++) {
         const tc_wedge *wd = &ws->w[w];
         if (wd->across[0] < 0 && wd->across[1] < 0) continue;
@@ -336,7 +372,7 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
                 continue;
             }
             int bad = literal(&x, w, ch, g, &amp) < 0;
-            if (amp > PROJECT_WARN && namp++ >= 0 && amp > worst) worst = amp, worst_v = wd->v;
+            note_amp(&amps, amp, wd->v);
             if (bad) {
                 char path[48];
                 snprintf(path, sizeof path, "vertices[%d]", (int)wd->v);
@@ -348,13 +384,7 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
             }
         }
     }
-    if (st == TC_OK && namp) {
-        char path[48];
-        snprintf(path, sizeof path, "vertices[%d]", (int)worst_v);
-        tc_diags_add(dg, TC_SEV_WARNING, path,
-                     "%d wedge planes (literal Project) amplify the gradient more than %.0fx; the worst, at vertex %d, "
-                     "%.3gx (1 + a*s near 0); wedges \"corrected\" does not", namp, PROJECT_WARN, (int)worst_v, worst);
-    }
+    if (st == TC_OK) warn_amp(&amps, dg);
     free(avg);
     free(vplane);
     free(area);

@@ -741,9 +741,10 @@ TEST(validate_recon_linear4_missing_midpoints_warns) {
     CHECK(dg.errors == 0 && dg.warnings == 1 && dg.count == 1);
     if (dg.count) {
         CHECK(dg.items[0].severity == TC_SEV_WARNING);
-        CHECK_MSG(!strcmp(dg.items[0].path, "midpoints"), "path '%s'", dg.items[0].path);
-        CHECK_STR_CONTAINS(dg.items[0].message, "1 triangle edge sides");
-        CHECK_STR_CONTAINS(dg.items[0].message, "no midpoint sample");
+        /* the triangle and the edge it lacks, and what to send */
+        CHECK_MSG(!strcmp(dg.items[0].path, "triangles[1]"), "path '%s'", dg.items[0].path);
+        CHECK_STR_CONTAINS(dg.items[0].message, "1 triangle edge side has no midpoint sample (edges [2, 3])");
+        CHECK_STR_CONTAINS(dg.items[0].message, "\"midpoints\"");
     }
     tc_diags_clear(&dg);
     d.nmidpoints = 5;

@@ -440,3 +440,50 @@ TEST(wedges_line_with_distinct_neighbours_keeps_c0) {
         tc_mesh_free(m);
     }
 }
+
+/* The literal 180-degree wedge's Project (Figure 6 as printed) amplifies the
+ * gradient where 1 + a*s nears 0: a straight line, C0 on one side of vertex 0
+ * and C-1 on the other, with steep given planes. The warning names the vertex,
+ * the figure and the remedy; corrected wedges have nothing to report. */
+TEST(wedges_literal_project_warning_names_vertex) {
+    static const double xy[10] = {0, 0, 1, 0, -1, 0, 0, 1, 0, -1};
+    static const double z[5] = {0.13808197348289283, 0.28536472063761426, 0.19993815720078451,
+                                0.25507649558367046, 0.57655293521310802};
+    static const double cg[24] = {10.920623257253608, -15.971620080979365, 3.1670205030436716, -1.5876232001872848,
+                                  -8.5570255613685688, -14.675991979742417, 14.554001090374777, -4.0375080816622404,
+                                  1.3454544271088453,  3.9829071909109626,  -1.0125139639771152, 12.748638052841947,
+                                  -14.818304513962151, 5.8202596874070611,  16.759694869052474, 1.8499370021046779,
+                                  2.0653158901563451,  10.486855930875457,  7.6292296813937055, -12.452525772365055,
+                                  -9.6824571255978462, -2.0391880637217263, 12.636214454023268, 2.0197554780262328};
+    static const int32_t tri[12] = {0, 1, 3, 0, 3, 2, 0, 2, 4, 0, 4, 1}, cgt[4] = {0, 1, 2, 3};
+    static const int32_t c0s[2] = {0, 2}, c0v[2] = {0, 1}, cms[2] = {0, 2}, cmv[2] = {2, 0};
+    tc_mesh_desc d;
+    memset(&d, 0, sizeof d);
+    d.nverts = 5, d.xy = xy, d.ntris = 4, d.tris = tri, d.nchan = 1, d.values = z;
+    d.ncorner_gradients = 4, d.corner_gradients_tri = cgt, d.corner_gradients = cg;
+    d.c0 = (tc_polylines){1, c0s, c0v}, d.cm1 = (tc_polylines){1, cms, cmv};
+    tc_mesh *m = NULL;
+    CHECK(tc_mesh_new(&d, &m, NULL) == TC_OK);
+    for (int lit = 0; m && lit < 2; lit++) {
+        tc_options o;
+        tc_options_default(&o);
+        o.tangents = TC_TANGENTS_GIVEN;
+        o.wedges = lit ? TC_WEDGES_LITERAL : TC_WEDGES_CORRECTED;
+        tc_diags dg;
+        tc_diags_init(&dg);
+        tc_recon *rec = NULL;
+        CHECK(tc_recon_new(m, &o, &rec, &dg) == TC_OK);
+        int n = 0;
+        for (int i = 0; i < dg.count; i++) {
+            if (!strstr(dg.items[i].message, "Project")) continue;
+            n++;
+            CHECK_STR_CONTAINS(dg.items[i].path, "vertices[0]");
+            CHECK_STR_CONTAINS(dg.items[i].message, "at vertex 0 amplifies the gradient 14.7x");
+            CHECK_STR_CONTAINS(dg.items[i].message, "wedges \"corrected\"");
+        }
+        CHECK_MSG(n == lit, "wedges %s: %d Project warnings", lit ? "literal" : "corrected", n);
+        tc_diags_free(&dg);
+        tc_recon_free(rec);
+    }
+    tc_mesh_free(m);
+}
