@@ -31,6 +31,7 @@ typedef struct {
     const double *cg;   /* [3nt][nc][2] corner planes after WedgeNormal */
     const double *in;   /* [3nt][nc][2] corner input planes (the paper's N_u; salesin) */
     tc_cross cross;
+    tc_tangents tangents; /* where the corner planes came from (the range limiter trusts given ones) */
     tc_wedges wedges;   /* literal: salesin uses the paper's 3D Project */
     int by_area;        /* average "area" with corrected wedges: salesin's Avg is a plain mean */
 } tc_ct_input;

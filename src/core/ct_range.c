@@ -144,9 +144,10 @@ static int dart_round(const ctx *X, double *cg) {
 
 /* ---- the cross-boundary ordinates ---- */
 
-static double range_of(const tc_bounds *b, size_t i) {
-    double r = b->hi[i] - b->lo[i];
-    return isfinite(r) && r > 0 ? r : 1;
+/* Counts a move of size `move` (absolute) in tally t if it is material. */
+static void note(const ctx *X, tc_range_tally *t, int ch, double move, int32_t tri, int k) {
+    double span = X->b->span[ch];
+    if (move > TC_RANGE_MATERIAL * span) tc__range_note(t, move / span, tri, k);
 }
 
 /* An edge that ties nothing (boundary, C-1, C0): cab is t's alone. */
@@ -157,7 +158,7 @@ static int clamp_free(const ctx *X, int32_t t, int k, double *coef) {
         double *cab = coef + i * TC_CT_ORDINATES + tc__ct_cij[k];
         if (tc__outside(*cab, X->b->lo[i], X->b->hi[i], X->b->tol[ch]) == 0) continue;
         double v = fmin(fmax(*cab, X->b->lo[i]), X->b->hi[i]);
-        tc__range_note(&X->st->edges, fabs(v - *cab) / range_of(X->b, i), t, k);
+        note(X, &X->st->edges, ch, fabs(v - *cab), t, k);
         *cab = v, moved = 1;
     }
     return moved;
@@ -193,11 +194,9 @@ static int clamp_tied_channel(const ctx *X, const tie *e, int ch, double *o, dou
     } else { /* no C1 choice inside: the nearest pair, C1 given up here */
         pn = high ? phi : plo;
         qn = high ? qhi : qlo;
-        double jump = fabs(qn - (g - kappa * pn)) / fmax(range_of(X->b, iq), range_of(X->b, ip));
-        tc__range_note(&X->st->kinks, jump, e->t, e->k);
+        note(X, &X->st->kinks, ch, fabs(qn - (g - kappa * pn)), e->t, e->k);
     }
-    double move = fmax(fabs(pn - p0) / range_of(X->b, ip), fabs(qn - q0) / range_of(X->b, iq));
-    if (!inside) tc__range_note(&X->st->edges, move, e->t, e->k);
+    if (!inside) note(X, &X->st->edges, ch, fmax(fabs(pn - p0), fabs(qn - q0)), e->t, e->k);
     *p = pn, *q = qn;
     return 1;
 }
@@ -235,7 +234,7 @@ int tc__ct_ordinates_ranged(const tc_ct_input *x, tc_range mode, double *cg, dou
     tc_bounds b;
     tc_range_stats st;
     tc__range_stats_init(&st);
-    int rc = tc__bounds_build(m, x->ws, x->cz, cg, mode, 0, &b);
+    int rc = tc__bounds_build(m, x->ws, x->cz, cg, x->tangents, mode, 0, &b);
     uint8_t *dirty = rc == TC_OK ? tc__calloc((size_t)m->nt, 1) : NULL;
     if (rc == TC_OK && !dirty) rc = TC_ENOMEM;
     if (rc == TC_OK) rc = tc__range_planes(m, x->ws, x->cz, &b, ct_dirs, m, cg, &st);

@@ -418,8 +418,9 @@ static int hermite_dirs(const void *ctx, int32_t c, double d[TC_PLANE_DIRS_MAX][
 
 /* The inner ordinate of quad corner k is its plane part (inside the bound
  * once the planes are limited) plus si sj keep x_s'Hx_t / 9: per wedge and
- * channel, the largest keep in [0, 1] that holds every inner ordinate in. */
-static void keep_pass(twists *tw, const tc_bounds *b, double *keep) {
+ * channel, the largest keep in [0, 1] that holds every inner ordinate in, and
+ * in part[] the largest second-order part (what keep < 1 moves by 1 - keep). */
+static void keep_pass(twists *tw, const tc_bounds *b, double *keep, double *largest) {
     const struct tc_mesh *m = tw->m;
     int nc = m->nc;
     for (int32_t q = 0; q < m->nq; q++) {
@@ -435,6 +436,7 @@ static void keep_pass(twists *tw, const tc_bounds *b, double *keep) {
                 double base = f + (si * tc__dot(g, G.xs[k]) + sj * tc__dot(g, G.xt[k])) / 3 + si * sj * tc__dot(g, G.E) / 9;
                 double part = si * sj * form(H, G.xs[k], G.xt[k]) / 9;
                 size_t i = (size_t)(2 * q) * nc + ch, w = (size_t)tw->ws.of_corner[c] * nc + ch;
+                largest[w] = fmax(largest[w], fabs(part));
                 double room = part > 0 ? b->hi[i] - base : b->lo[i] - base; /* same sign as part, or 0 */
                 if (tc__outside(base + part, b->lo[i], b->hi[i], b->tol[ch]) > 0)
                     keep[w] = fmin(keep[w], fmax(0, room / part));
@@ -446,18 +448,21 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
     const struct tc_mesh *m = r->m;
     size_t n = (size_t)tw->ws.nw * m->nc;
     tc_bounds b;
-    int st = tc__bounds_build(m, &tw->ws, m->cz, r->cgrad, r->opt.range, 1, &b);
+    int st = tc__bounds_build(m, &tw->ws, m->cz, r->cgrad, r->opt.tangents, r->opt.range, 1, &b);
     tw->keep = st == TC_OK ? tc__malloc(n, sizeof *tw->keep) : NULL;
-    if (st == TC_OK && !tw->keep) st = TC_ENOMEM;
+    double *largest = st == TC_OK ? tc__calloc(n, sizeof *largest) : NULL;
+    if (st == TC_OK && (!tw->keep || !largest)) st = TC_ENOMEM;
     if (st == TC_OK) {
         for (size_t i = 0; i < n; i++) tw->keep[i] = 1;
-        keep_pass(tw, &b, tw->keep);
+        keep_pass(tw, &b, tw->keep, largest);
         tc_range_stats rs;
         tc__range_stats_init(&rs);
-        for (size_t i = 0; i < n; i++)
-            if (tw->keep[i] < 1) tc__range_note(&rs.twists, 1 - tw->keep[i], tw->ws.w[i / m->nc].v, -1);
+        for (size_t i = 0; i < n; i++) /* reported where an inner ordinate moved materially */
+            if ((1 - tw->keep[i]) * largest[i] > TC_RANGE_MATERIAL * b.span[i % m->nc])
+                tc__range_note(&rs.twists, 1 - tw->keep[i], tw->ws.w[i / m->nc].v, -1);
         tc__range_warn(m, &rs, r->opt.range, dg);
     }
+    free(largest);
     tc__bounds_free(&b);
     return st;
 }

@@ -1,5 +1,5 @@
-/* range.c — per-triangle bounds, and the projection of wedge tangent planes onto
- * the planes whose ordinates stay inside them (the shared half of every range limiter). */
+/* range.c — the projection of wedge tangent planes onto the planes whose
+ * ordinates stay inside their triangles' bounds (the shared half of every range limiter). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,128 +10,6 @@
 #include "core/qp.h"
 #include "core/recon.h"
 #include "core/range.h"
-
-/* ---- bounds ---- */
-
-static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, int ch, double *lo, double *hi) {
-    int nc = m->nc;
-    *lo = INFINITY, *hi = -INFINITY;
-    for (int k = 0; k < 3; k++) {
-        double z = cz[(3 * (size_t)t + k) * nc + ch];
-        *lo = fmin(*lo, z), *hi = fmax(*hi, z);
-    }
-}
-
-/* Per wedge and channel, the range of every corner value of its faces:
- * what the data do around a vertex on one side of its delimiters. */
-static int wedge_ranges(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, double *wr) {
-    int nc = m->nc;
-    for (int32_t w = 0; w < ws->nw; w++)
-        for (int ch = 0; ch < nc; ch++) {
-            double *r = wr + 2 * ((size_t)w * nc + ch);
-            r[0] = INFINITY, r[1] = -INFINITY;
-            for (int32_t i = 0; i < ws->w[w].count; i++) {
-                double lo, hi;
-                corner_range(m, cz, ws->corners[ws->w[w].first + i] / 3, ch, &lo, &hi);
-                r[0] = fmin(r[0], lo), r[1] = fmax(r[1], hi);
-            }
-        }
-    return TC_OK;
-}
-
-/* Triangle t's spread and its neighbourhood's (the faces of the wedges at
- * its corners) in channel ch; per_quad: of its quad and the quad's. */
-static void spreads(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *wr, int32_t t,
-                    int ch, int per_quad, double *lo, double *hi, double *rlo, double *rhi) {
-    int nc = m->nc;
-    double nlo = INFINITY, nhi = -INFINITY;
-    corner_range(m, cz, t, ch, lo, hi);
-    for (int half = 0; half <= (per_quad && m->nq); half++) {
-        int32_t u = half ? t ^ 1 : t;
-        double a, b;
-        corner_range(m, cz, u, ch, &a, &b);
-        *lo = fmin(*lo, a), *hi = fmax(*hi, b);
-        for (int k = 0; k < 3; k++) {
-            const double *r = wr + 2 * ((size_t)ws->of_corner[3 * u + k] * nc + ch);
-            nlo = fmin(nlo, r[0]), nhi = fmax(nhi, r[1]);
-        }
-    }
-    *rlo = nlo, *rhi = nhi;
-}
-
-/* minmod: the smaller magnitude if a and b agree in sign, else 0. */
-static double minmod(double a, double b) { return a > 0 && b > 0 ? fmin(a, b) : a < 0 && b < 0 ? fmax(a, b) : 0; }
-
-/* How far triangle t's data themselves say it bulges past its corners: along
- * each edge i -> j, the slopes of the two corner planes against the chord,
- * D_i - (z_j - z_i) and (z_j - z_i) - D_j, agree on a curvature only if both
- * ends bend the same way (a ridge or a valley crossing the edge); minmod
- * keeps the smaller. A plane tilted at one end only (the artefact of a plane
- * estimated across a thin strip next to flat data) agrees with nothing. */
-static double bulge(const struct tc_mesh *m, const double *cz, const double *cg, int32_t t, int ch) {
-    int nc = m->nc;
-    double worst = 0;
-    for (int i = 0; i < 3 && cg; i++) {
-        size_t ci = 3 * (size_t)t + i, cj = 3 * (size_t)t + (i + 1) % 3;
-        double e[2];
-        tc__sub(e, tc__vxy(m, m->tri[cj]), tc__vxy(m, m->tri[ci]));
-        double di = tc__dot(cg + 2 * (ci * nc + ch), e), dj = tc__dot(cg + 2 * (cj * nc + ch), e);
-        double chord = cz[cj * nc + ch] - cz[ci * nc + ch];
-        worst = fmax(worst, fabs(minmod(di - chord, chord - dj)));
-    }
-    return worst;
-}
-
-int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
-                     tc_range mode, int per_quad, tc_bounds *b) {
-    int nc = m->nc;
-    memset(b, 0, sizeof *b);
-    b->nc = nc;
-    b->lo = tc__malloc((size_t)m->nt * nc, sizeof *b->lo);
-    b->hi = tc__malloc((size_t)m->nt * nc, sizeof *b->hi);
-    double *wr = tc__malloc((size_t)ws->nw * nc, 2 * sizeof *wr);
-    if (!b->lo || !b->hi || !wr) {
-        free(wr);
-        return TC_ENOMEM;
-    }
-    wedge_ranges(m, ws, cz, wr);
-    double whole[TC_MAX_CHANNELS];
-    for (int ch = 0; ch < nc; ch++) {
-        double big = 0, lo = INFINITY, hi = -INFINITY;
-        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-            double z = cz[c * nc + ch];
-            big = fmax(big, fabs(z)), lo = fmin(lo, z), hi = fmax(hi, z);
-        }
-        b->tol[ch] = TC_RANGE_SLACK * big;
-        whole[ch] = hi - lo;
-    }
-    for (int32_t t = 0; t < m->nt; t++)
-        for (int ch = 0; ch < nc; ch++) {
-            double lo, hi, rlo, rhi;
-            spreads(m, ws, cz, wr, t, ch, per_quad, &lo, &hi, &rlo, &rhi);
-            size_t i = (size_t)t * nc + ch;
-            double floor = lo >= 0 ? 0 : -INFINITY;
-            double bend = bulge(m, cz, cg, t, ch);
-            if (per_quad && m->nq) bend = fmax(bend, bulge(m, cz, cg, t ^ 1, ch));
-            double margin = fmax(TC_RANGE_MARGIN * (hi - lo), TC_RANGE_WHOLE * whole[ch]);
-            double up = TC_RANGE_BULGE * bend, down = up;
-            if (TC_RANGE_AROUND) up = fmin(up, fmax(0, rhi - hi)), down = fmin(down, fmax(0, lo - rlo));
-            if (mode == TC_RANGE_POSITIVE) {
-                b->lo[i] = floor;
-                b->hi[i] = INFINITY;
-            } else {
-                b->lo[i] = fmax(lo - fmax(margin, down), floor), b->hi[i] = hi + fmax(margin, up);
-            }
-        }
-    free(wr);
-    return TC_OK;
-}
-
-void tc__bounds_free(tc_bounds *b) {
-    free(b->lo);
-    free(b->hi);
-    b->lo = b->hi = NULL;
-}
 
 /* ---- statistics and warnings ---- */
 
@@ -155,7 +33,7 @@ void tc__range_warn(const struct tc_mesh *m, const tc_range_stats *s, tc_range m
     for (int i = 0; i < s->planes.named; i++) {
         snprintf(path, sizeof path, "vertices[%d]", (int)s->planes.where[i]);
         tc_diags_add(dg, TC_SEV_WARNING, path,
-                     "range \"%s\": the tangent plane here was limited to %.3g of its size to keep the reconstruction "
+                     "range \"%s\" limited the slope at this vertex to %.3g of its size to keep the reconstruction "
                      "inside its data's range (%d planes limited in all%s)", name, 1 - s->planes.size[i],
                      (int)s->planes.count, s->flattened ? ", some further so a C1 edge could stay inside" : "");
     }
@@ -163,7 +41,7 @@ void tc__range_warn(const struct tc_mesh *m, const tc_range_stats *s, tc_range m
         tc__elem_path(m, s->edges.where[i], path, sizeof path);
         tc_diags_add(dg, TC_SEV_WARNING, path,
                      "range \"%s\": the cross-boundary derivative of edge %d here was limited, its ordinate moved by "
-                     "%.3g of the triangle's range (%d in all)", name, s->edges.edge[i], s->edges.size[i],
+                     "%.3g of the channel's range (%d in all)", name, s->edges.edge[i], s->edges.size[i],
                      (int)s->edges.count);
     }
     for (int i = 0; i < s->twists.named; i++) {
@@ -177,7 +55,7 @@ void tc__range_warn(const struct tc_mesh *m, const tc_range_stats *s, tc_range m
         tc_diags_add(dg, TC_SEV_WARNING, path,
                      "range \"%s\": edge %d here is joined C0, not C1: no C1 join stays inside the range (the two "
                      "triangles reach far along the edge's line on one side); the kink is the smallest possible, "
-                     "%.3g of the range (%d edges in all); range \"free\" keeps C1 and overshoots",
+                     "%.3g of the channel's range (%d edges in all); range \"free\" keeps C1 and overshoots",
                      name, s->kinks.edge[i], s->kinks.size[i], (int)s->kinks.count);
     }
 }
@@ -501,19 +379,31 @@ static int project(const group *G, const double Q[][3], const double *y0, double
     return 0;
 }
 
-/* Limits one group in one channel; returns the factor |y| / |y0| (1: untouched). */
-static double limit_group(group *G, double *cg) {
+/* The largest move of an ordinate the planes set, from planes y0 to y. */
+static double largest_move(const group *G, const double *y0, const double *y) {
+    double worst = 0;
+    for (int i = 0; i < G->nrows; i++) {
+        const row *r = &G->rows[i];
+        worst = fmax(worst, fabs(tc__dot(r->d, y + 2 * r->slot) - tc__dot(r->d, y0 + 2 * r->slot)));
+    }
+    return worst;
+}
+
+/* What limiting one group did: the factor |y| / |y0| in the metric Q (1:
+ * untouched) and the largest move of an ordinate. */
+typedef struct {
+    double factor, move;
+} limited;
+
+/* Limits one group in one channel. */
+static limited limit_group(group *G, double *cg) {
     int nc = G->m->nc;
     double y0[TC_QP_MAXN], y[TC_QP_MAXN], Q[GROUP_MAX][3], tol = G->b->tol[G->ch];
     for (int s = 0; s < G->k; s++) {
         const double *p = plane_at(cg, G->ws, nc, G->w[s], G->ch);
         y0[2 * s] = p[0], y0[2 * s + 1] = p[1];
     }
-    if (violation(G, y0, tol) == 0) return 1;
-    if (getenv("DBG_V") && G->ws->w[G->w[0]].v == atoi(getenv("DBG_V"))) {
-        fprintf(stderr, "vertex %d k %d ch %d y0 %g %g\n", (int)G->ws->w[G->w[0]].v, G->k, G->ch, y0[0], y0[1]);
-        for (int i = 0; i < G->nrows; i++) { const row *r = &G->rows[i]; double v = tc__dot(r->d, y0 + 2 * r->slot); fprintf(stderr, "  slot %d d (%g %g) v %g in [%g, %g]%s\n", r->slot, r->d[0], r->d[1], v, r->lo, r->hi, tc__outside(v, r->lo, r->hi, tol) > 0 ? "  <-- OUT" : ""); }
-    }
+    if (violation(G, y0, tol) == 0) return (limited){1, 0};
     metrics(G, Q);
     /* The projection, or the plain scaling if the QP could not be set up; then
      * whichever of the two is nearer y0 (the scaling is always admissible). */
@@ -537,7 +427,35 @@ static double limit_group(group *G, double *cg) {
     }
     for (int s = 0; s < G->k; s++) set_plane(cg, G->ws, nc, G->w[s], G->ch, y + 2 * s);
     double n0 = qnorm2(Q, G->k, y0);
-    return n0 > 0 ? sqrt(qnorm2(Q, G->k, y) / n0) : 1;
+    return (limited){n0 > 0 ? sqrt(qnorm2(Q, G->k, y) / n0) : 1, largest_move(G, y0, y)};
+}
+
+/* A group too large for the QP (more C0 edges at a vertex than GROUP_MAX
+ * wedges): every plane in it scaled by the smallest factor any needs. */
+static limited shrink_group(group *G, int32_t w, double *cg) {
+    const tc_wedge_set *ws = G->ws;
+    int32_t w0 = w, w1 = w;
+    while (w0 > 0 && ws->w[w0 - 1].v == ws->w[w].v) w0--;
+    while (w1 < ws->nw && ws->w[w1].v == ws->w[w].v) w1++;
+    int32_t *all = malloc((size_t)(w1 - w0) * sizeof *all);
+    int n = all ? group_of(ws, w, all, w1 - w0) : -1;
+    double lambda = n > 0 ? 1 : 0, move = 0;
+    for (int i = 0; i < n; i++) {
+        G->k = 1, G->w[0] = all[i];
+        if (gather_rows(G)) lambda = 0;
+        else lambda = fmin(lambda, scale_inside(G, plane_at(cg, ws, G->m->nc, all[i], G->ch), G->b->tol[G->ch]));
+    }
+    for (int i = 0; i < n; i++) {
+        double *p = plane_at(cg, ws, G->m->nc, all[i], G->ch);
+        G->k = 1, G->w[0] = all[i];
+        if (gather_rows(G) == 0) {
+            double y0[2] = {p[0], p[1]}, y[2] = {lambda * p[0], lambda * p[1]};
+            move = fmax(move, largest_move(G, y0, y));
+        }
+    }
+    free(all);
+    tc__range_scale_group(ws, G->m->nc, w, G->ch, lambda, cg);
+    return (limited){lambda, move};
 }
 
 int tc__range_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const tc_bounds *b,
@@ -563,16 +481,8 @@ int tc__range_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
             G.ch = ch;
             G.k = k > 0 ? k : 1;
             memcpy(G.w, members, (size_t)G.k * sizeof *members);
-            double f;
-            if (k > 0 && gather_rows(&G) == 0) {
-                f = limit_group(&G, cg);
-            } else { /* too large for the QP: shrink the whole group */
-                G.k = 1;
-                G.w[0] = w;
-                f = gather_rows(&G) == 0 ? scale_inside(&G, plane_at(cg, ws, m->nc, w, ch), G.b->tol[ch]) : 0;
-                tc__range_scale_group(ws, m->nc, w, ch, f, cg);
-            }
-            if (f < 1) tc__range_note(&st->planes, 1 - f, ws->w[w].v, -1);
+            limited lim = k > 0 && gather_rows(&G) == 0 ? limit_group(&G, cg) : shrink_group(&G, w, cg);
+            if (lim.move > TC_RANGE_MATERIAL * b->span[ch]) tc__range_note(&st->planes, 1 - lim.factor, ws->w[w].v, -1);
         }
     }
     free(rows);

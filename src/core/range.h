@@ -1,55 +1,64 @@
-/* range.h — range-restricted reconstruction: per-triangle bounds from the data,
- * and the limiter of the wedge tangent planes that every method shares.
+/* range.h — range-restricted reconstruction: per-triangle bounds from the data
+ * (bounds.c), and the limiter of the wedge tangent planes every method shares (range.c).
  *
- * The bound of triangle T (range "local") is [min, max] of T's own three corner
- * values, per channel, with no margin: each piece stays within the values its
- * own corners carry (the corner values of a C-1 edge's side are that side's).
- * Range "positive" bounds only from below, by 0, the triangles whose corner
- * values are all >= 0. A piece is a Bézier patch, so it lies inside the convex
- * hull of its ordinates: keeping every ordinate inside the bound bounds the
- * function. The ordinates a wedge's tangent plane sets (z + g.d for the
- * directions d a method names per corner) are kept inside by projecting the
- * plane onto the set of admissible planes (g = 0 is always admissible, since
- * every corner value lies in its own triangle's bound); what each method
- * builds from them is its own affair (ct_range.c, powell_sabin.c, hermite.c). */
+ * The bound of triangle T (range "local"), per channel, is [min, max] of T's
+ * own three corner values (a C-1 edge's side's own values), widened on each
+ * side by the larger of
+ *   - TC_RANGE_MARGIN (5 %) of that spread (a flat triangle stays flat), and
+ *   - the hump (dip) T's data show along one of its edges: a midpoint sample
+ *     above (below) both ends, 4/3 of its excess (what the parabola through
+ *     the three samples puts in the net); or corner planes that rise from one
+ *     end of an edge and fall to the other, a third of the smaller of the two
+ *     slopes along the edge (what such a bend puts in the net). Planes given
+ *     or built from midpoint samples count as data; planes estimated from the
+ *     neighbouring vertices count only as far as the values around T go (the
+ *     range over the faces of the wedges at T's corners), and not at all at a
+ *     vertex on the mesh's boundary (a one-sided fit);
+ * and never below 0 where T's corner values are all >= 0. So a triangle of
+ * flat data next to a thin strip cannot sink or swell, while a smooth peak or
+ * ridge that passes between samples keeps its shape (the limiter costs the
+ * reference scenes at most 10 % of their error; docs/report.md). Range
+ * "positive" keeps only the floor at 0.
+ *
+ * A piece is a Bézier patch, so it lies inside the convex hull of its
+ * ordinates: keeping every ordinate inside the bound bounds the function. The
+ * ordinates a wedge's tangent plane sets (z + g.d for the directions d a
+ * method names per corner) are kept inside by projecting the plane onto the
+ * set of admissible planes (g = 0 is always admissible, since every corner
+ * value lies in its own triangle's bound); what each method builds from them
+ * is its own affair (ct_range.c, powell_sabin.c, hermite.c). */
 #ifndef TC_CORE_RANGE_H
 #define TC_CORE_RANGE_H
 
 #include "core/wedge.h"
 
-/* The local bound's margin, as a fraction of the triangle's own spread of
- * corner values (never below 0 where its corners are >= 0). Smooth data along
- * a ridge or near an extremum rise slightly above the corners that sample
- * them (second order); a margin proportional to the spread lets them, while
- * a flat triangle (spread ~0) stays flat. */
-#ifndef TC_RANGE_MARGIN
+/* The local bound's least margin, as a fraction of the triangle's own spread
+ * of corner values: room for rounding of the data and for the small second-
+ * order rise of smooth data between samples; 0 for flat data. */
 #define TC_RANGE_MARGIN 0.05
-#endif
-#ifndef TC_RANGE_AROUND
-#define TC_RANGE_AROUND 0
-#endif
-#ifndef TC_RANGE_BULGE
-#define TC_RANGE_BULGE 0.5
-#endif
-#ifndef TC_RANGE_WHOLE
-#define TC_RANGE_WHOLE 0
-#endif
 
 /* Ordinates within this much of the bound, relative to the channel's largest
  * |value|, count as inside: rounding, not overshoot. */
 #define TC_RANGE_SLACK 1e-12
 
+/* What the limiter changes by less than this fraction of a channel's data
+ * range (about a quarter of an 8-bit grey level) is not reported: flat data
+ * with printing noise are limited silently. */
+#define TC_RANGE_MATERIAL 1e-3
+
 typedef struct {
     int nc;
     double *lo, *hi;                 /* [nt][nc]; -INFINITY / INFINITY where unbounded */
     double tol[TC_MAX_CHANNELS];     /* TC_RANGE_SLACK x the channel's largest |value| */
+    double span[TC_MAX_CHANNELS];    /* the channel's data range (max - min of its corner values) */
 } tc_bounds;
 
-/* Bounds from the corner values cz [3nt][nc] the reconstruction interpolates.
- * per_quad: both triangles of a split quad get the range of the quad's four
- * corners (hermite's patch spans the quad). */
+/* The bounds (as above) from the corner values cz [3nt][nc] the reconstruction
+ * interpolates and its corner planes cg [3nt][nc][2] before any limiting, ws
+ * the wedges they were built on, `tangents` where they came from. per_quad:
+ * both triangles of a split quad get their quad's bound (hermite's patch). */
 int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
-                     tc_range mode, int per_quad, tc_bounds *b);
+                     tc_tangents tangents, tc_range mode, int per_quad, tc_bounds *b);
 void tc__bounds_free(tc_bounds *b);
 
 /* How far ordinate z lies outside [lo, hi] (0 inside, or within tol). */
@@ -57,8 +66,9 @@ static inline double tc__outside(double z, double lo, double hi, double tol) {
     return z < lo - tol ? lo - z : z > hi + tol ? z - hi : 0;
 }
 
-/* What the limiters did, for the answer's warnings: counts, and the few
- * places where each did the most (so a warning can name them). */
+/* What the limiters did materially (TC_RANGE_MATERIAL), for the answer's
+ * warnings: counts, and the few places where each did the most (so a warning
+ * can name them). */
 enum { TC_RANGE_NAMED = 4 };
 typedef struct {
     int32_t count;                  /* how many (per element and channel) */
@@ -70,8 +80,8 @@ typedef struct {
 
 typedef struct {
     tc_range_tally planes; /* size: 1 - |g limited| / |g| (in the metric of its ordinates) */
-    tc_range_tally edges;  /* size: how far the cross-boundary ordinate moved / the triangle's range */
-    tc_range_tally kinks;  /* size: the C1 mismatch left / the triangles' range */
+    tc_range_tally edges;  /* size: how far the cross-boundary ordinate moved / the channel's range */
+    tc_range_tally kinks;  /* size: the C1 mismatch left / the channel's range */
     tc_range_tally twists; /* hermite: size: 1 - the factor the cross derivative's second-order part kept */
     int32_t flattened;     /* wedge planes scaled down further so a C1 edge could stay in range */
 } tc_range_stats;

@@ -83,7 +83,7 @@ static int limit_planes(struct tc_recon *r, const ct_scratch *s, const tc_plane_
     tc_bounds b;
     tc_range_stats st;
     tc__range_stats_init(&st);
-    int rc = tc__bounds_build(r->m, &s->ws, cz, r->cgrad, r->opt.range, use->per_quad, &b);
+    int rc = tc__bounds_build(r->m, &s->ws, cz, r->cgrad, r->opt.tangents, r->opt.range, use->per_quad, &b);
     if (rc == TC_OK) rc = tc__range_planes(r->m, &s->ws, cz, &b, use->dirs, use->ctx, r->cgrad, &st);
     if (rc == TC_OK) tc__range_warn(r->m, &st, r->opt.range, dg);
     tc__bounds_free(&b);
@@ -105,7 +105,7 @@ int tc__ct_build(struct tc_recon *r, tc_diags *dg) {
     int st = ct_planes(r, &s, dg);
     if (st == TC_OK) {
         tc_ct_input x = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->cgrad, s.in,
-                         r->opt.cross_boundary, r->opt.wedges,
+                         r->opt.cross_boundary, r->opt.tangents, r->opt.wedges,
                          r->opt.wedges == TC_WEDGES_CORRECTED && r->opt.average == TC_AVERAGE_AREA};
         st = r->opt.range == TC_RANGE_FREE ? tc__ct_ordinates(&x, r->coef, dg)
                                            : tc__ct_ordinates_ranged(&x, r->opt.range, r->cgrad, r->coef, dg);

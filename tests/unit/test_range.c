@@ -38,19 +38,88 @@ static void obtuse_mesh(tmesh *g, trng *r, double stretch) {
     }
 }
 
-/* The bound of range "local" as range.h states it, from the corner values the
- * reconstruction interpolates (its corner ordinates, checked by interpolation). */
-static void local_bound(const double *corners, int n, double *lo, double *hi) {
-    double a = corners[0], b = corners[0];
-    for (int i = 1; i < n; i++) a = fmin(a, corners[i]), b = fmax(b, corners[i]);
-    double margin = TC_RANGE_MARGIN * (b - a);
-    *lo = a >= 0 ? fmax(a - margin, 0) : a - margin;
-    *hi = b + margin;
+/* What the bound of range "local" may use besides the corner values (range.h):
+ * the corner planes before limiting (the free reconstruction's), and whether
+ * they are data (given) or estimated (believed only as far as the values
+ * around go). NULL planes: the corner range and its 5 % margin only. */
+typedef struct {
+    const double *cg;
+    int estimated;
+    const tmesh *g;  /* the generator's midpoint samples, or NULL */
+} evidence;
+
+/* The midpoint sample of edge (a, b) on triangle t's side, if g has one. */
+static int midpoint_of(const tmesh *g, int32_t t, int32_t a, int32_t b, int ch, double *z) {
+    for (int32_t i = 0; g && i < g->nmid; i++) {
+        const int32_t *e = g->mid_edge + 2 * i;
+        int same = (e[0] == a && e[1] == b) || (e[0] == b && e[1] == a);
+        if (same && (!g->mid_tri || g->mid_tri[i] < 0 || g->mid_tri[i] == t)) {
+            *z = g->mid_val[(size_t)i * g->nc + ch];
+            return 1;
+        }
+    }
+    return 0;
 }
 
-/* The worst distance of a cubic ordinate outside its triangle's bound,
- * relative to the channel's largest |value|. */
-static double worst_outside(const tc_recon *rec) {
+static double minmod(double a, double b) { return a > 0 && b > 0 ? fmin(a, b) : a < 0 && b < 0 ? fmax(a, b) : 0; }
+
+/* The range of every corner value the reconstruction interpolates (its
+ * corner ordinates: clough-tocher-c1 merges a jump's two sides) over the
+ * triangles sharing a vertex with t: a superset of what range.h calls the
+ * values around t. */
+static void around_range(const tc_recon *rec, int32_t t, int ch, double *lo, double *hi) {
+    const tc_mesh *m = tc_recon_mesh(rec);
+    const int32_t *tri = tc_mesh_triangles(m);
+    int nc = tc_mesh_channel_count(m), ncoef = tc_recon_coef_count(rec);
+    *lo = INFINITY, *hi = -INFINITY;
+    for (int32_t u = 0; u < tc_mesh_triangle_count(m); u++) {
+        int touch = 0;
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) touch |= tri[3 * u + a] == tri[3 * t + b];
+        const double *o = tc_recon_coefs(rec) + ((size_t)u * nc + ch) * ncoef;
+        for (int k = 0; touch && k < 3; k++) *lo = fmin(*lo, o[k]), *hi = fmax(*hi, o[k]);
+    }
+}
+
+/* Triangle t's bound in channel ch as range.h states it (with an estimate's
+ * reach taken over a superset of the values around). o: its ordinates, whose
+ * first three are the corner values the reconstruction interpolates. */
+static void spec_bound(const tc_recon *rec, const evidence *ev, int32_t t, int ch, const double *o, double *lo,
+                       double *hi) {
+    const tc_mesh *m = tc_recon_mesh(rec);
+    const double *xy = tc_mesh_xy(m);
+    const int32_t *tri = tc_mesh_triangles(m);
+    int nc = tc_mesh_channel_count(m);
+    double a = fmin(o[0], fmin(o[1], o[2])), b = fmax(o[0], fmax(o[1], o[2])), hump = 0, dip = 0;
+    for (int i = 0; ev && i < 3; i++) { /* a midpoint sample beyond both ends: 4/3 of its excess */
+        double mid, zi = o[i], zj = o[(i + 1) % 3];
+        if (!midpoint_of(ev->g, t, tri[3 * t + i], tri[3 * t + (i + 1) % 3], ch, &mid)) continue;
+        hump = fmax(hump, 4.0 / 3 * (mid - fmax(zi, zj))), dip = fmax(dip, 4.0 / 3 * (fmin(zi, zj) - mid));
+    }
+    double phump = 0, pdip = 0;
+    for (int i = 0; ev && ev->cg && i < 3; i++) {
+        int j = (i + 1) % 3;
+        const double *gi = ev->cg + ((3 * (size_t)t + i) * nc + ch) * 2, *gj = ev->cg + ((3 * (size_t)t + j) * nc + ch) * 2;
+        double e[2] = {xy[2 * tri[3 * t + j]] - xy[2 * tri[3 * t + i]], xy[2 * tri[3 * t + j] + 1] - xy[2 * tri[3 * t + i] + 1]};
+        double di = gi[0] * e[0] + gi[1] * e[1], dj = gj[0] * e[0] + gj[1] * e[1];
+        phump = fmax(phump, minmod(di, -dj) / 3), pdip = fmax(pdip, minmod(-di, dj) / 3);
+    }
+    if (ev && ev->estimated) {
+        double rlo, rhi;
+        around_range(rec, t, ch, &rlo, &rhi);
+        phump = fmin(phump, fmax(0, rhi - b)), pdip = fmin(pdip, fmax(0, a - rlo));
+    }
+    hump = fmax(hump, phump), dip = fmax(dip, pdip);
+    double margin = TC_RANGE_MARGIN * (b - a);
+    *lo = a - fmax(margin, dip);
+    if (a >= 0) *lo = fmax(*lo, 0);
+    *hi = b + fmax(margin, hump);
+}
+
+/* The worst distance of a Bézier ordinate (the first 19: clough-tocher's, or
+ * powell-sabin's) outside its triangle's bound, relative to the channel's
+ * largest |value|. */
+static double worst_outside(const tc_recon *rec, const evidence *ev) {
     const tc_mesh *m = tc_recon_mesh(rec);
     int nc = tc_mesh_channel_count(m), ncoef = tc_recon_coef_count(rec);
     const double *coef = tc_recon_coefs(rec);
@@ -62,9 +131,8 @@ static double worst_outside(const tc_recon *rec) {
         for (int ch = 0; ch < nc; ch++) {
             const double *o = coef + ((size_t)t * nc + ch) * ncoef;
             double lo, hi;
-            local_bound(o, 3, &lo, &hi);
-            for (int i = 0; i < TC_CT_ORDINATES; i++)
-                worst = fmax(worst, fmax(lo - o[i], o[i] - hi) / scale);
+            spec_bound(rec, ev, t, ch, o, &lo, &hi);
+            for (int i = 0; i < TC_CT_ORDINATES; i++) worst = fmax(worst, fmax(lo - o[i], o[i] - hi) / scale);
         }
     return worst;
 }
@@ -113,13 +181,13 @@ TEST(range_local_bounds_every_ordinate_and_keeps_continuity) {
             tc_method method = ci < 3 ? TC_METHOD_CLOUGH_TOCHER : TC_METHOD_CLOUGH_TOCHER_C1;
             tc_cross cross = (tc_cross)(ci % 3);
             tc_recon *fr = make(m, method, cross, src, TC_RANGE_FREE, NULL);
-            if (fr) free_worst = fmax(free_worst, worst_outside(fr));
-            tc_recon_free(fr);
+            evidence ev = {fr ? tc_recon_corner_gradients(fr) : NULL, src == TC_TANGENTS_ESTIMATE, &g};
+            if (fr) free_worst = fmax(free_worst, worst_outside(fr, NULL));
             tc_diags dg;
             tc_diags_init(&dg);
             tc_recon *rec = make(m, method, cross, src, TC_RANGE_LOCAL, &dg);
             if (rec) {
-                double out = worst_outside(rec);
+                double out = worst_outside(rec, &ev);
                 local_worst = fmax(local_worst, out);
                 CHECK_MSG(out <= 1e-12, "trial %d %s/%s: an ordinate leaves its bound by %.3g", trial,
                           tc_method_name(method), tc_cross_name(cross), out);
@@ -132,6 +200,7 @@ TEST(range_local_bounds_every_ordinate_and_keeps_continuity) {
                 runs++;
             }
             tc_recon_free(rec);
+            tc_recon_free(fr);
             tc_diags_free(&dg);
         }
         tc_mesh_free(m);
@@ -190,7 +259,7 @@ TEST(range_local_single_obtuse_triangles) {
         for (int range = 0; m && range < 2; range++) {
             tc_recon *rec = make(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, TC_TANGENTS_GIVEN,
                                  range ? TC_RANGE_FREE : TC_RANGE_LOCAL, NULL);
-            double out = rec ? worst_outside(rec) : INFINITY;
+            double out = rec ? worst_outside(rec, NULL) : INFINITY; /* flat planes: no bend */
             if (range) free_worst = fmax(free_worst, out);
             else local_worst = fmax(local_worst, out);
             tc_recon_free(rec);
@@ -263,8 +332,8 @@ TEST(range_local_dart_joined_c0_and_named) {
     tc_recon *fr = m ? make(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, TC_TANGENTS_GIVEN, TC_RANGE_FREE, NULL)
                      : NULL;
     if (rec && fr) {
-        CHECK_MSG(worst_outside(rec) <= 1e-12, "local leaves the bound by %.3g", worst_outside(rec));
-        CHECK_MSG(worst_outside(fr) > 1, "free should overshoot the dart (%.3g)", worst_outside(fr));
+        CHECK_MSG(worst_outside(rec, NULL) <= 1e-12, "local leaves the bound by %.3g", worst_outside(rec, NULL));
+        CHECK_MSG(worst_outside(fr, NULL) > 1, "free should overshoot the dart (%.3g)", worst_outside(fr, NULL));
         int named = 0;
         for (int i = 0; i < dg.count; i++)
             named |= strstr(dg.items[i].message, "joined C0") && (!strcmp(dg.items[i].path, "triangles[0]") ||
@@ -296,14 +365,15 @@ TEST(range_local_bounds_powell_sabin) {
         double slope = 3;
         tmesh_sample(&g, 2, rough_f, &slope, 1, 0, 0.4);
         tc_mesh *m = tmesh_build(&g);
-        for (int range = 0; m && range < 2; range++) {
-            tc_recon *rec = make(m, TC_METHOD_POWELL_SABIN, TC_CROSS_NORMAL, TC_TANGENTS_GIVEN,
-                                 range ? TC_RANGE_FREE : TC_RANGE_LOCAL, NULL);
-            double out = rec ? worst_outside(rec) : INFINITY;
-            if (range) free_worst = fmax(free_worst, out);
-            else local_worst = fmax(local_worst, out);
-            tc_recon_free(rec);
-        }
+        tc_recon *fr = m ? make(m, TC_METHOD_POWELL_SABIN, TC_CROSS_NORMAL, TC_TANGENTS_GIVEN, TC_RANGE_FREE, NULL)
+                         : NULL;
+        tc_recon *rec = m ? make(m, TC_METHOD_POWELL_SABIN, TC_CROSS_NORMAL, TC_TANGENTS_GIVEN, TC_RANGE_LOCAL, NULL)
+                          : NULL;
+        evidence ev = {fr ? tc_recon_corner_gradients(fr) : NULL, 0, NULL};
+        if (fr) free_worst = fmax(free_worst, worst_outside(fr, NULL));
+        local_worst = fmax(local_worst, rec ? worst_outside(rec, &ev) : INFINITY);
+        tc_recon_free(rec);
+        tc_recon_free(fr);
         tc_mesh_free(m);
         tmesh_free(&g);
     }
@@ -328,7 +398,7 @@ TEST(range_warnings_say_what_and_where) {
     tc_recon *b = m ? make(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, TC_TANGENTS_GIVEN, TC_RANGE_FREE, &df) : NULL;
     int planes = 0, leaves = 0;
     for (int i = 0; i < dl.count; i++)
-        planes += strstr(dl.items[i].message, "tangent plane here was limited") && !strncmp(dl.items[i].path, "vertices[", 9);
+        planes += strstr(dl.items[i].message, "limited the slope at this vertex") && !strncmp(dl.items[i].path, "vertices[", 9);
     for (int i = 0; i < df.count; i++)
         leaves += strstr(df.items[i].message, "leaves its data's range") && !strncmp(df.items[i].path, "triangles[", 10);
     CHECK_MSG(planes >= 1 && planes <= TC_RANGE_NAMED, "local: %d plane warnings naming a vertex", planes);
@@ -354,7 +424,7 @@ TEST(range_local_tames_overflowing_planes) {
     CHECK(tc_mesh_new(&d, &m, NULL) == TC_OK);
     tc_recon *rec = m ? make(m, TC_METHOD_CLOUGH_TOCHER, TC_CROSS_NORMAL, TC_TANGENTS_GIVEN, TC_RANGE_LOCAL, NULL)
                       : NULL;
-    if (rec) CHECK_MSG(worst_outside(rec) <= 1e-12, "outside by %.3g", worst_outside(rec));
+    if (rec) CHECK_MSG(worst_outside(rec, NULL) <= 1e-12, "outside by %.3g", worst_outside(rec, NULL));
     tc_recon_free(rec);
     tc_mesh_free(m);
 }
