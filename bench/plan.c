@@ -86,6 +86,6 @@ int bench_surface_method_find(const char *name) {
 
 /* Without C0 flags, as the real format sends them: where the free cubic fails. */
 const bench_surface_picture bench_surface_pictures[] = {
-    {"square-light", 1}, {"box", 1}, {"stiff-corner", 1}, {"stiff-edge", 1},
+    {"square-light", 1}, {"penumbra", 1}, {"box", 1}, {"stiff-corner", 1},
 };
 const int bench_nsurface_pictures = (int)(sizeof bench_surface_pictures / sizeof bench_surface_pictures[0]);

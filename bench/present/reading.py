@@ -109,7 +109,7 @@ def literal(run, ct):
 
 
 def _vs(run, scene, method, base="clough-tocher"):
-    """'0.00302 (0.99× clough-tocher's)' on the representative disc mesh."""
+    """'0.00302 (0.99× clough-tocher's)' on the representative disc mesh: method's mean relative error."""
     rep = run.disc(run.c["rep_N"])
     a, b = run.get(scene, rep, method), run.get(scene, rep, base)
     return "%s (%s× %s's)" % (g3(a["mean_rel"]), _x(a, b), base) if a and b else "n/a"
@@ -159,8 +159,8 @@ def ps_hermite(run):
                      f"{_vs(run, 'stiff', 'hermite-zero-twist', 'hermite')}{why}.")
     if PEN in run.scenes:
         items.append(f"- **Twist, in general:** zero twist gives up an order of convergence (bicubic Hermite with zero "
-                     f"twist reproduces only bilinear cross terms); on the penumbra it has "
-                     f"{_vs(run, PEN, 'hermite-zero-twist', 'hermite')} error. With exact second derivatives "
+                     f"twist reproduces only bilinear cross terms); on the penumbra hermite-zero-twist's mean "
+                     f"relative error is {_vs(run, PEN, 'hermite-zero-twist', 'hermite')}. With exact second derivatives "
                      f"(`hessians`) the twist is exact — the unit tests reproduce bicubics with them.")
     items.append("- **Where Hermite cannot go:** meshes that are not quads (adaptive quadtrees with hanging vertices, "
                  "Delaunay meshes), and general quads, across whose edges it is only C0: C1 holds on parallelograms "
