@@ -140,14 +140,19 @@ def pictures(run, figdir, rel):
             % (run.c["surf_panel"], run.c["surf_panel"], panels) + "\n".join(out))
 
 
+def _describe(f):
+    """'box-corner (the box scene, window [0.35, 0.45]×[0.35, 0.45] turned 25°, N = 4)'."""
+    w = f["window"]
+    scene = "" if f["scene"] == f["name"] else "the %s scene, " % f["scene"]
+    return "%s (%swindow [%g, %g]×[%g, %g] turned %g°, N = %d)" % (f["name"], scene, w[0], w[2], w[1], w[3],
+                                                                 f["rotation"], f["density"])
+
+
 def write(run, figdir, rel):
     if not run.surfaces:
         return ""
     surf = {s["name"]: s for s in run.info["surfaces"]}
-    listed = listing("%s (%s, window %s, turned %g°, N = %d)" % (
-        n, surf[n]["scene"], "[%g, %g]×[%g, %g]" % (surf[n]["window"][0], surf[n]["window"][2],
-                                                     surf[n]["window"][1], surf[n]["window"][3]),
-        surf[n]["rotation"], surf[n]["density"]) for n in dict.fromkeys(r["surface"] for r in run.surfaces))
+    listed = listing(_describe(surf[n]) for n in dict.fromkeys(r["surface"] for r in run.surfaces))
     return f"""## Realistic surfaces
 
 Issue 12 found the free cubic unusable on real discontinuity-mesher output: long obtuse triangles fanning from
@@ -156,7 +161,7 @@ flags. `src/scenes/surfaces.h` makes such meshes from the reference scenes (`tc_
 Each is sent as a front-end sends it — values rounded to 6 significant digits, no midpoint samples and no
 gradients (so every cubic estimates its tangent planes) — once with its C0 events flagged and once without
 (the real format has no C0 flags; C-1 stays flagged), and rendered at {run.c['surf_W']} × {run.c['surf_W']} over its
-window. The methods: {listing("%s (%s)" % (m["name"], m["what"]) for m in run.info["surface_methods"])}, and the
+window. The methods — {"; ".join("%s: %s" % (m["name"], m["what"]) for m in run.info["surface_methods"])} — and the
 exact function itself (B of the turned scene at the pixel centres) against the same corner values.
 The target for the default (issue 12 item 6): no negative pixel, at most {100 * MAX_BEYOND:g} % of the pixels beyond
 5 % R, worst at most {MAX_WORST:g} R.
