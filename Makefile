@@ -18,6 +18,7 @@ MHD_LIBS     := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmi
 OIIO_CFLAGS  := $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 OIIO_LIBS    := $(shell pkg-config --libs OpenImageIO 2>/dev/null || echo -lOpenImageIO -lOpenImageIO_Util)
 CXX     ?= c++
+PYTHON  ?= /usr/bin/python3
 
 WARN     := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wvla
 ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(WARN) \
@@ -41,7 +42,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit test-peers check run clean report bench
+.PHONY: all deps test test-unit test-peers check run clean report report-quick bench
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -72,7 +73,8 @@ $(BUILD)/tocherd: $(SRV_OBJ) $(BUILD)/libtocher.a
 $(BUILD)/test_unit: $(TEST_OBJ) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
 
-# The error-against-run-time report: docs/report.md and docs/report/ (bench/).
+# The error-against-run-time report (bench/): build/report measures, in C, into a data
+# directory (CSV, PNG, run.json); bench/report.py writes the page and its plots from it.
 $(BUILD)/report: $(BENCH_OBJ) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
 
@@ -84,9 +86,20 @@ bench: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf
 	bench/perf/run.sh $(BUILD)
 
+# docs/report.md and docs/report/ (about 5 minutes on 2 cores).
 report: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/report
-	$(BUILD)/report --out docs --template bench/report.md.in
+	$(BUILD)/report --out docs/report
+	$(PYTHON) bench/report.py docs/report docs/report.md
+
+# The same on one scene, small meshes and every realistic surface, into $(BUILD)/report-quick/
+# (docs/ untouched): a minute or less, what CI runs to keep bench/ and the script working.
+QUICK := $(BUILD)/report-quick
+report-quick: deps
+	@$(MAKE) --no-print-directory all $(BUILD)/report
+	rm -rf $(QUICK)
+	$(BUILD)/report --out $(QUICK)/report --scenes penumbra --max-density 8 --min-threshold 0.1
+	$(PYTHON) bench/report.py $(QUICK)/report $(QUICK)/report.md
 
 # Installs what the build and the tests need on Debian 12 (as root, or via sudo).
 deps:

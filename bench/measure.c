@@ -1,5 +1,5 @@
 /* measure.c — the measurement of one method on one scene mesh: build and render
- * times, errors against the exact radiosity at the pixel centres, the scanline. */
+ * times, errors against the exact radiosity at the pixel centres, overshoot, the scanline. */
 #include "measure.h"
 
 #include <math.h>
@@ -17,9 +17,10 @@ int bench_reference_init(bench_reference *ref, const tc_scene *s) {
     ref->xy = malloc(2 * np * sizeof *ref->xy);
     ref->ref = malloc(np * sizeof *ref->ref);
     ref->tile = malloc(np * sizeof *ref->tile);
+    ref->owner = malloc(np * sizeof *ref->owner);
     ref->scan_xy = malloc(2 * (size_t)BENCH_SCAN_N * sizeof *ref->scan_xy);
     ref->scan_ref = malloc((size_t)BENCH_SCAN_N * sizeof *ref->scan_ref);
-    if (!ref->xy || !ref->ref || !ref->tile || !ref->scan_xy || !ref->scan_ref) {
+    if (!ref->xy || !ref->ref || !ref->tile || !ref->owner || !ref->scan_xy || !ref->scan_ref) {
         bench_reference_free(ref);
         return TC_ENOMEM;
     }
@@ -39,7 +40,7 @@ int bench_reference_init(bench_reference *ref, const tc_scene *s) {
 }
 
 void bench_reference_free(bench_reference *ref) {
-    free(ref->xy), free(ref->ref), free(ref->tile), free(ref->scan_xy), free(ref->scan_ref);
+    free(ref->xy), free(ref->ref), free(ref->tile), free(ref->owner), free(ref->scan_xy), free(ref->scan_ref);
     memset(ref, 0, sizeof *ref);
 }
 
@@ -177,7 +178,7 @@ static void tangent_error(const tc_recon *r, const tc_scene_mesh *sm, bench_resu
 }
 
 /* The box: the share of the image's summed error near the footprint corners,
- * from the tile the last timed render left in ref->tile. */
+ * from the tile in ref->tile. */
 static double corner_share(const bench_reference *ref) {
     const tc_scene *s = ref->scene;
     if (s->occluder != TC_OCCLUDER_BOX) return NAN;
@@ -192,6 +193,16 @@ static double corner_share(const bench_reference *ref) {
         if (d2 <= r2) near += e;
     }
     return all > 0 ? near / all : NAN;
+}
+
+/* One render with owners, outside the timed ones (which write no owners, as
+ * a caller that only wants the picture would): the overshoot against each
+ * pixel's own triangle, and the box's corner share. */
+static void untimed_render(const bench_reference *ref, const bench_prepared *p, bench_result *out) {
+    tc_render_options ro = {NULL, 2, 0}; /* the same bytes on any thread count */
+    tc_render(p->recon, p->loc, &ref->vp, &ro, ref->tile, ref->owner);
+    tc_overshoot(p->mesh, ref->tile, ref->owner, BENCH_W, BENCH_W, BENCH_OVER_THRESHOLD, &out->over);
+    out->corner_share = corner_share(ref);
 }
 
 int bench_measure_begin(const bench_reference *ref, const tc_scene_mesh *sm, int method, bench_result *out,
@@ -211,6 +222,7 @@ int bench_measure_begin(const bench_reference *ref, const tc_scene_mesh *sm, int
     if (bench_prepare(sm, bm, &pend->p, &out->mesh_ms, out->note, sizeof out->note) != 0) return -1;
     tc_compare(pend->p.recon, pend->p.loc, (size_t)BENCH_W * BENCH_W, ref->xy, ref->ref, s->scale, &out->err);
     tangent_error(pend->p.recon, sm, out);
+    untimed_render(ref, &pend->p, out);
     out->scan = malloc((size_t)BENCH_SCAN_N * sizeof *out->scan);
     double *v = malloc((size_t)BENCH_SCAN_N * sizeof *v);
     if (!out->scan || !v) {
@@ -245,7 +257,6 @@ void bench_measure_round(const bench_reference *ref, bench_pending *pend, int ro
         double t0 = bench_now_ms();
         tc_render(pend->p.recon, pend->p.loc, &ref->vp, &ro, ref->tile, NULL);
         pend->render[round] = bench_now_ms() - t0;
-        if (round == 0) pend->corner_share = corner_share(ref);
     }
 }
 
@@ -254,8 +265,15 @@ void bench_measure_end(bench_pending *pend, bench_result *out) {
     out->build_ms = bench_median(pend->build, pend->batches);
     out->build_reps = pend->reps;
     out->render_ms = bench_median(pend->render, BENCH_RENDER_REPS);
-    out->corner_share = pend->corner_share;
     out->ok = 1;
     bench_prepared_free(&pend->p);
     pend->active = 0;
+}
+
+void bench_exact_overshoot(const bench_reference *ref, const bench_prepared *p, tc_overshoot_stats *out) {
+    for (size_t k = 0; k < (size_t)BENCH_W * BENCH_W; k++) {
+        ref->tile[k] = (float)ref->ref[k];
+        ref->owner[k] = tc_locate(p->loc, ref->xy[2 * k], ref->xy[2 * k + 1]);
+    }
+    tc_overshoot(p->mesh, ref->tile, ref->owner, BENCH_W, BENCH_W, BENCH_OVER_THRESHOLD, out);
 }

@@ -1,5 +1,5 @@
 /* measure.h — the measurement of one method on one scene mesh: build and render
- * times, errors against the exact radiosity at the pixel centres, the scanline. */
+ * times, errors against the exact radiosity at the pixel centres, overshoot, the scanline. */
 #ifndef BENCH_MEASURE_H
 #define BENCH_MEASURE_H
 
@@ -20,6 +20,7 @@ typedef struct {
     double *scan_xy;  /* [BENCH_SCAN_N][2] (BENCH_SCAN_X, y), y increasing */
     double *scan_ref; /* [BENCH_SCAN_N] exact B there */
     float *tile;      /* [W*W] scratch for tc_render */
+    int32_t *owner;   /* [W*W] scratch for the untimed render's owners */
 } bench_reference;
 
 int bench_reference_init(bench_reference *ref, const tc_scene *s);
@@ -47,7 +48,8 @@ void bench_prepared_free(bench_prepared *p);
 
 /* Measuring the methods of one mesh, with their timings interleaved so that
  * a burst of other load on the machine hits every method alike:
- *   bench_measure_begin for each method (prepare, errors, scanline),
+ *   bench_measure_begin for each method (prepare, errors, scanline, and one
+ *     untimed render with owners for the overshoot and the box's corner share),
  *   bench_measure_round for round = 0 .. BENCH_ROUNDS-1, each over all methods
  *     (one tc_recon_new batch and, in the first BENCH_RENDER_REPS rounds,
  *     one tc_render),
@@ -59,7 +61,6 @@ typedef struct {
     bench_prepared p;
     int reps, batches;
     double build[BENCH_BUILD_BATCHES], render[BENCH_RENDER_REPS];
-    double corner_share;
 } bench_pending;
 
 #define BENCH_ROUNDS (BENCH_BUILD_BATCHES > BENCH_RENDER_REPS ? BENCH_BUILD_BATCHES : BENCH_RENDER_REPS)
@@ -68,5 +69,9 @@ int bench_measure_begin(const bench_reference *ref, const tc_scene_mesh *sm, int
                         bench_pending *pend);
 void bench_measure_round(const bench_reference *ref, bench_pending *pend, int round);
 void bench_measure_end(bench_pending *pend, bench_result *out);
+
+/* The exact B's own excursion from the corner values of p's mesh (pixels
+ * owned as tc_locate owns them), into *out. */
+void bench_exact_overshoot(const bench_reference *ref, const bench_prepared *p, tc_overshoot_stats *out);
 
 #endif

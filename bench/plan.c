@@ -1,5 +1,5 @@
 /* plan.c — what the report measures: the one table of reconstruction methods,
- * the meshes of every scene, and which of them the tables and figures show. */
+ * the meshes of every scene, the realistic surfaces, and which of them are pictured. */
 #include "plan.h"
 
 #include <stdio.h>
@@ -8,41 +8,38 @@
 /* Options not named keep their default (every default is 0, tocher.h). */
 #define OPT(m, c, w, t) {.method = TC_METHOD_##m, .cross_boundary = TC_CROSS_##c, .wedges = TC_WEDGES_##w, .tangents = TC_TANGENTS_##t}
 #define OPT_TWIST(m, t, tw) {.method = TC_METHOD_##m, .tangents = TC_TANGENTS_##t, .twist = TC_TWIST_##tw}
+#define OPT_RANGE(m, t, r) {.method = TC_METHOD_##m, .tangents = TC_TANGENTS_##t, .range = TC_RANGE_##r}
 
 /* name, options (method, cross_boundary, wedges, tangents[, twist]), uses
- * midpoints, uses gradients, runs on quads, colour, marker, description. */
+ * midpoints, uses gradients, runs on quads, description. */
 const bench_method bench_methods[] = {
-    {"constant", OPT(CONSTANT, NORMAL, CORRECTED, AUTO), 0, 0, 0, "#9a9a9a", MK_DOWN,
-     "one value per triangle (corner mean)"},
-    {"linear", OPT(LINEAR, NORMAL, CORRECTED, AUTO), 0, 0, 0, "#1f5fbf", MK_CIRCLE,
-     "piecewise linear on the mesh (Gouraud)"},
-    {"linear4", OPT(LINEAR4, NORMAL, CORRECTED, AUTO), 1, 0, 0, "#3fa7c9", MK_SQUARE,
+    {"constant", OPT(CONSTANT, NORMAL, CORRECTED, AUTO), 0, 0, 0, "one value per triangle (corner mean)"},
+    {"linear", OPT(LINEAR, NORMAL, CORRECTED, AUTO), 0, 0, 0, "piecewise linear on the mesh (Gouraud)"},
+    {"linear4", OPT(LINEAR4, NORMAL, CORRECTED, AUTO), 1, 0, 0,
      "linear on the 4-split through the midpoint samples (Salesin's baseline)"},
-    {"clough-tocher", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0, "#d62728", MK_CIRCLE,
-     "cubic, flags kept; cross_boundary normal, wedges corrected, tangents from midpoints"},
-    {"ct-free", {.method = TC_METHOD_CLOUGH_TOCHER, .tangents = TC_TANGENTS_MIDPOINTS, .range = TC_RANGE_FREE}, 1, 0, 0,
-     "#ff9896", MK_CIRCLE, "as clough-tocher with range free: the unlimited cubic (the paper's; matplotlib's)"},
-    {"ct-salesin", OPT(CLOUGH_TOCHER, SALESIN, CORRECTED, MIDPOINTS), 1, 0, 0, "#ff8c1a", MK_TRIANGLE,
+    {"clough-tocher", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0,
+     "cubic, flags kept; cross_boundary normal, wedges corrected, tangents from midpoints, range local"},
+    {"ct-free", OPT_RANGE(CLOUGH_TOCHER, MIDPOINTS, FREE), 1, 0, 0,
+     "as clough-tocher with range free: the unlimited cubic (the paper's; matplotlib's)"},
+    {"ct-salesin", OPT(CLOUGH_TOCHER, SALESIN, CORRECTED, MIDPOINTS), 1, 0, 0,
      "as clough-tocher with cross_boundary salesin"},
-    {"ct-affine", OPT(CLOUGH_TOCHER, AFFINE, CORRECTED, MIDPOINTS), 1, 0, 0, "#e377c2", MK_DIAMOND,
+    {"ct-affine", OPT(CLOUGH_TOCHER, AFFINE, CORRECTED, MIDPOINTS), 1, 0, 0,
      "as clough-tocher with cross_boundary affine"},
-    {"ct-literal", OPT(CLOUGH_TOCHER, NORMAL, LITERAL, MIDPOINTS), 1, 0, 0, "#8c564b", MK_SQUARE,
+    {"ct-literal", OPT(CLOUGH_TOCHER, NORMAL, LITERAL, MIDPOINTS), 1, 0, 0,
      "as clough-tocher with wedges literal (Figure 6 as printed)"},
-    {"clough-tocher-c1", OPT(CLOUGH_TOCHER_C1, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0, "#7b3fb0", MK_CIRCLE,
+    {"clough-tocher-c1", OPT(CLOUGH_TOCHER_C1, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0,
      "cubic, C1 everywhere: flags ignored; tangents from midpoints"},
-    {"ct-given", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, GIVEN), 0, 1, 0, "#2ca02c", MK_STAR,
+    {"ct-given", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, GIVEN), 0, 1, 0,
      "as clough-tocher with tangents given: the scene's corner gradients"},
-    {"ct-estimate", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, ESTIMATE), 0, 0, 0, "#b8930b", MK_PLUS,
+    {"ct-estimate", OPT(CLOUGH_TOCHER, NORMAL, CORRECTED, ESTIMATE), 0, 0, 0,
      "as clough-tocher with tangents estimated per wedge: vertex samples only"},
-    {"ct-estimate-free",
-     {.method = TC_METHOD_CLOUGH_TOCHER, .tangents = TC_TANGENTS_ESTIMATE, .range = TC_RANGE_FREE}, 0, 0, 0, "#e0c060",
-     MK_PLUS, "as ct-estimate with range free"},
-    {"powell-sabin", OPT(POWELL_SABIN, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0, "#17becf", MK_CROSS,
+    {"ct-estimate-free", OPT_RANGE(CLOUGH_TOCHER, ESTIMATE, FREE), 0, 0, 0, "as ct-estimate with range free"},
+    {"powell-sabin", OPT(POWELL_SABIN, NORMAL, CORRECTED, MIDPOINTS), 1, 0, 0,
      "C1 quadratic on the 6-split (incenter); C-1 cuts, C0 read as C1; tangents from midpoints"},
-    {"hermite", OPT_TWIST(HERMITE, MIDPOINTS, ESTIMATE), 1, 0, 1, "#000000", MK_SQUARE,
+    {"hermite", OPT_TWIST(HERMITE, MIDPOINTS, ESTIMATE), 1, 0, 1,
      "bicubic Hermite patches on the quad version of the mesh (one quad per cell); flags kept, "
      "tangents from midpoints (diagonals included), twist estimated from the neighbouring planes"},
-    {"hermite-zero-twist", OPT_TWIST(HERMITE, MIDPOINTS, ZERO), 1, 0, 1, "#6b6b6b", MK_DIAMOND,
+    {"hermite-zero-twist", OPT_TWIST(HERMITE, MIDPOINTS, ZERO), 1, 0, 1,
      "as hermite with twist zero (only the bilinear map's own g . x_st)"},
 };
 const int bench_nmethods = (int)(sizeof bench_methods / sizeof bench_methods[0]);
@@ -69,3 +66,26 @@ void bench_mesh_label(const bench_mesh_spec *m, char *buf, unsigned n) {
     if (m->kind == TC_SCENE_MESH_ADAPTIVE) snprintf(buf, n, "adaptive t=%g", m->threshold);
     else snprintf(buf, n, "%s N=%d", tc_scene_mesh_kind_name(m->kind), m->density);
 }
+
+/* On the surfaces tangents are "auto": no midpoint samples and no gradients are
+ * sent, so every cubic estimates its tangent planes, as with real front-ends. */
+const bench_surface_method bench_surface_methods[] = {
+    {"clough-tocher", {.method = TC_METHOD_CLOUGH_TOCHER}, "the default: range local, cross_boundary normal"},
+    {"ct-free", {.method = TC_METHOD_CLOUGH_TOCHER, .range = TC_RANGE_FREE}, "range free: the unlimited cubic"},
+    {"ct-affine", {.method = TC_METHOD_CLOUGH_TOCHER, .cross_boundary = TC_CROSS_AFFINE},
+     "range local, cross_boundary affine"},
+    {"linear", {.method = TC_METHOD_LINEAR}, "piecewise linear (Gouraud)"},
+};
+const int bench_nsurface_methods = (int)(sizeof bench_surface_methods / sizeof bench_surface_methods[0]);
+
+int bench_surface_method_find(const char *name) {
+    for (int i = 0; i < bench_nsurface_methods; i++)
+        if (strcmp(bench_surface_methods[i].name, name) == 0) return i;
+    return -1;
+}
+
+/* Without C0 flags, as the real format sends them: where the free cubic fails. */
+const bench_surface_picture bench_surface_pictures[] = {
+    {"square-light", 1}, {"penumbra", 1}, {"box", 1}, {"stiff-corner", 1},
+};
+const int bench_nsurface_pictures = (int)(sizeof bench_surface_pictures / sizeof bench_surface_pictures[0]);

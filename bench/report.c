@@ -1,83 +1,72 @@
-/* report.c — `build/report`: measures every method on every mesh of every
- * reference scene and writes docs/report.md, docs/report/ (CSV, SVG, PNG). */
+/* report.c — `build/report`: measures every method on every mesh of every reference
+ * scene, and the realistic surfaces, into CSV, PNG and run.json (bench/report.py presents them). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "images.h"
-#include "markdown.h"
 #include "measure.h"
-#include "plots.h"
 #include "plan.h"
 #include "results.h"
+#include "runinfo.h"
+#include "surfaces.h"
 #include "util.h"
 
 static const char usage[] =
-    "usage: build/report [--out DIR] [--template FILE] [--scenes a,b,...] [--max-density N]\n"
-    "  Writes DIR/report.md (default DIR = docs) and DIR/report/: results.csv, per scene\n"
-    "  SVG plots, the scanline CSV and PNG image rows. --scenes and --max-density cut the\n"
-    "  run down for quick looks (uniform and disc meshes denser than N are left out).\n";
+    "usage: build/report [--out DIR] [--scenes a,b,...] [--max-density N] [--min-threshold T]\n"
+    "                    [--surfaces a,b,...|none]\n"
+    "  Writes into DIR (default docs/report): results.csv, surfaces.csv, run.json, per scene\n"
+    "  the scanline CSV and PNG image rows, per pictured surface its PNG rows.\n"
+    "  --scenes, --max-density (disc and uniform meshes denser than N are left out),\n"
+    "  --min-threshold (adaptive meshes finer than T are left out) and --surfaces cut the\n"
+    "  run down for quick looks. bench/report.py then writes the report from DIR.\n";
 
 typedef struct {
-    const char *out, *tmpl;
+    const char *out, *surfaces; /* surfaces: a comma list, NULL = all, "none" */
     int scene_on[TC_SCENE_COUNT];
     int max_density;
+    double min_threshold;
 } args;
 
-static int parse_args(int argc, char **argv, args *a) {
-    a->out = "docs", a->tmpl = "bench/report.md.in", a->max_density = 1 << 20;
-    for (int s = 0; s < TC_SCENE_COUNT; s++) a->scene_on[s] = 1;
-    for (int i = 1; i < argc; i++) {
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--out") && v) a->out = v, i++;
-        else if (!strcmp(argv[i], "--template") && v) a->tmpl = v, i++;
-        else if (!strcmp(argv[i], "--max-density") && v) a->max_density = atoi(v), i++;
-        else if (!strcmp(argv[i], "--scenes") && v) {
-            for (int s = 0; s < TC_SCENE_COUNT; s++) a->scene_on[s] = 0;
-            char buf[256];
-            snprintf(buf, sizeof buf, "%s", v);
-            for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
-                tc_scene_id id;
-                if (tc_scene_parse(tok, &id) != 0) {
-                    fprintf(stderr, "report: unknown scene '%s'\n", tok);
-                    return -1;
-                }
-                a->scene_on[id] = 1;
-            }
-            i++;
-        } else {
-            fputs(usage, stderr);
+static int parse_scenes(const char *v, args *a) {
+    for (int s = 0; s < TC_SCENE_COUNT; s++) a->scene_on[s] = 0;
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", v);
+    for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+        tc_scene_id id;
+        if (tc_scene_parse(tok, &id) != 0) {
+            fprintf(stderr, "report: unknown scene '%s'\n", tok);
             return -1;
         }
+        a->scene_on[id] = 1;
     }
     return 0;
 }
 
-static void machine_info(bench_run_info *info) {
-    snprintf(info->machine, sizeof info->machine, "unknown CPU");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    char line[512];
-    while (f && fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) != 0) continue;
-        char *p = strchr(line, ':');
-        if (!p) continue;
-        for (p++; *p == ' ' || *p == '\t'; p++) {}
-        p[strcspn(p, "\r\n")] = '\0';
-        snprintf(info->machine, sizeof info->machine, "%s", p);
-        break;
+static int parse_args(int argc, char **argv, args *a) {
+    a->out = "docs/report", a->surfaces = NULL, a->max_density = 1 << 20, a->min_threshold = 0;
+    for (int s = 0; s < TC_SCENE_COUNT; s++) a->scene_on[s] = 1;
+    for (int i = 1; i < argc; i++) {
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int st = 0;
+        if (!v) st = -1;
+        else if (!strcmp(argv[i], "--out")) a->out = v;
+        else if (!strcmp(argv[i], "--max-density")) a->max_density = atoi(v);
+        else if (!strcmp(argv[i], "--min-threshold")) a->min_threshold = atof(v);
+        else if (!strcmp(argv[i], "--surfaces")) a->surfaces = v;
+        else if (!strcmp(argv[i], "--scenes")) st = parse_scenes(v, a);
+        else st = -1;
+        if (st != 0) {
+            fputs(usage, stderr);
+            return -1;
+        }
+        i++;
     }
-    if (f) fclose(f);
-    char n[32];
-    bench_command_line("nproc 2>/dev/null", n, sizeof n, "0");
-    info->nproc = atoi(n);
-    /* "-dirty" only for changed sources: the report's own earlier outputs under docs/ do not count. */
-    bench_command_line("c=$(git rev-parse --short HEAD 2>/dev/null) && { git diff --quiet HEAD -- . ':(exclude)docs'"
-                       " 2>/dev/null || c=\"$c-dirty\"; echo \"$c\"; }",
-                       info->commit, sizeof info->commit, "unknown");
+    return 0;
 }
 
 static int mesh_wanted(const args *a, const bench_mesh_spec *m) {
-    return m->kind == TC_SCENE_MESH_ADAPTIVE || m->density <= a->max_density;
+    return m->kind == TC_SCENE_MESH_ADAPTIVE ? m->threshold >= a->min_threshold : m->density <= a->max_density;
 }
 
 /* The quad version of a disc or uniform mesh (same cells, one quad each) for
@@ -91,6 +80,17 @@ static tc_scene_mesh *quad_version(const tc_scene *s, tc_scene_mesh_opts o, char
     int st = !need || why ? TC_EINVAL : tc_scene_mesh_new(s, &o, &q);
     if (st != TC_OK) snprintf(note, n, "needs a quad mesh: %s", why ? why : "tc_scene_mesh_new failed");
     return q;
+}
+
+/* The exact B's own overshoot on the mesh, into every row of it (from the
+ * first method that runs on triangles: a quad version is the same cells). */
+static void exact_overshoot(bench_results *rs, int first, const bench_reference *ref, const bench_pending *pend) {
+    tc_overshoot_stats o;
+    int m = 0;
+    while (m < bench_nmethods && (!pend[m].active || bench_methods[m].quads)) m++;
+    if (m == bench_nmethods) return;
+    bench_exact_overshoot(ref, &pend[m].p, &o);
+    for (int k = 0; k < bench_nmethods; k++) rs->r[first + k].exact_over = o;
 }
 
 /* Every method on one mesh of one scene. Returns -1 only when out of memory. */
@@ -134,6 +134,7 @@ static int measure_mesh(bench_results *rs, const bench_reference *ref, int mesh,
             fprintf(stderr, "          %s %s %s: skipped: %s\n", tc_scene_name(s->id), label, bench_methods[m].name,
                     rs->r[first + m].note);
     }
+    if (st == TC_OK) exact_overshoot(rs, first, ref, pend);
     for (int round = 0; st == TC_OK && round < BENCH_ROUNDS; round++)
         for (int m = 0; m < bench_nmethods; m++) bench_measure_round(ref, &pend[m], round);
     for (int m = 0; st == TC_OK && m < bench_nmethods; m++) bench_measure_end(&pend[m], &rs->r[first + m]);
@@ -154,6 +155,22 @@ static int measure_mesh(bench_results *rs, const bench_reference *ref, int mesh,
     return 0;
 }
 
+/* Every wanted mesh of scene sid, then its scanline CSV. 0, or -1. */
+static int measure_scene(bench_results *rs, const args *a, int sid, bench_run_info *info) {
+    tc_scene s;
+    tc_scene_init(&s, (tc_scene_id)sid);
+    bench_reference ref;
+    if (bench_reference_init(&ref, &s) != TC_OK) return -1;
+    int fail = 0;
+    for (int i = 0; i < bench_nmeshes && !fail; i++)
+        if (mesh_wanted(a, &bench_meshes[i])) fail = measure_mesh(rs, &ref, i, a->out, &info->images_ok) != 0;
+    char path[1100];
+    snprintf(path, sizeof path, "%s/%s-scanline.csv", a->out, tc_scene_name(s.id));
+    if (!fail) fail = bench_scanlines_write_csv(rs, sid, ref.scan_xy, ref.scan_ref, path) != 0;
+    bench_reference_free(&ref);
+    return fail ? -1 : 0;
+}
+
 int main(int argc, char **argv) {
     args a;
     if (parse_args(argc, argv, &a) != 0) return 2;
@@ -162,50 +179,32 @@ int main(int argc, char **argv) {
         return 1;
     }
     bench_log_start();
-    char figdir[1024], path[1100];
-    snprintf(figdir, sizeof figdir, "%s/report", a.out);
-    if (bench_mkdirs(figdir) != 0) {
-        fprintf(stderr, "report: cannot create %s\n", figdir);
+    if (bench_mkdirs(a.out) != 0) {
+        fprintf(stderr, "report: cannot create %s\n", a.out);
         return 1;
     }
-    bench_run_info info = {0};
-    machine_info(&info);
-    info.fig_rel = "report";
-    info.images_ok = 1;
+    bench_run_info info;
+    bench_run_info_init(&info);
     bench_log("report: %d scenes x %d meshes x %d methods, W = %d, on %s (%d cores)", TC_SCENE_COUNT, bench_nmeshes,
               bench_nmethods, BENCH_W, info.machine, info.nproc);
     bench_results rs = {0};
     int fail = 0;
-    for (int sid = 0; sid < TC_SCENE_COUNT && !fail; sid++) {
-        if (!a.scene_on[sid]) continue;
-        tc_scene s;
-        tc_scene_init(&s, (tc_scene_id)sid);
-        bench_reference ref;
-        if (bench_reference_init(&ref, &s) != TC_OK) {
-            fail = 1;
-            break;
-        }
-        for (int i = 0; i < bench_nmeshes && !fail; i++)
-            if (mesh_wanted(&a, &bench_meshes[i])) fail = measure_mesh(&rs, &ref, i, figdir, &info.images_ok) != 0;
-        if (!fail && bench_plots_write(&rs, &ref, figdir) != 0) fail = 1;
-        bench_reference_free(&ref);
-    }
-    if (fail) {
-        fprintf(stderr, "report: failed (out of memory or a file could not be written)\n");
-        bench_results_free(&rs);
-        return 1;
-    }
-    snprintf(path, sizeof path, "%s/results.csv", figdir);
-    int st = bench_results_write_csv(&rs, path);
+    for (int sid = 0; sid < TC_SCENE_COUNT && !fail; sid++)
+        if (a.scene_on[sid]) fail = measure_scene(&rs, &a, sid, &info) != 0;
+    char path[1100];
+    snprintf(path, sizeof path, "%s/results.csv", a.out);
+    if (!fail) fail = bench_results_write_csv(&rs, path) != 0;
+    int no_surfaces = a.surfaces && !strcmp(a.surfaces, "none");
+    if (!fail && !no_surfaces) fail = bench_surfaces_run(a.surfaces, a.out, &info.images_ok) != 0;
+    snprintf(path, sizeof path, "%s/surfaces.csv", a.out);
+    if (no_surfaces) remove(path); /* an earlier run's would be read as this one's */
     info.total_s = bench_elapsed_s();
-    snprintf(path, sizeof path, "%s/report.md", a.out);
-    int md = bench_markdown_write(&rs, &info, a.tmpl, path);
-    if (md < 0) st = -1;
+    snprintf(path, sizeof path, "%s/run.json", a.out);
+    if (!fail) fail = bench_run_info_write(&info, a.scene_on, path) != 0;
     int skipped = 0;
     for (int i = 0; i < rs.n; i++) skipped += !rs.r[i].ok;
-    bench_log("wrote %s and %s/ (%d rows, %d skipped)%s", path, figdir, rs.n, skipped,
-              md > 0 ? "; the template has unknown keys (marked {{?key}})" : "");
-    fprintf(stderr, "report: total run time %.1f s\n", bench_elapsed_s());
+    if (fail) fprintf(stderr, "report: failed (out of memory or a file could not be written)\n");
+    else bench_log("wrote %s/ (%d rows, %d skipped)", a.out, rs.n, skipped);
     bench_results_free(&rs);
-    return st ? 1 : 0;
+    return fail ? 1 : 0;
 }

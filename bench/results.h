@@ -1,5 +1,5 @@
 /* results.h — one measured (scene, mesh, method) triple, the growing list of
- * them, look-ups by key, and docs/report/results.csv. */
+ * them, look-ups by key, results.csv and the per-scene scanline CSV. */
 #ifndef BENCH_RESULTS_H
 #define BENCH_RESULTS_H
 
@@ -21,6 +21,10 @@ typedef struct {
     int build_reps;            /* calls per timed batch */
     double render_ms;          /* tc_render of the W x W tile, 1 thread, median */
     tc_error_stats err;        /* against B at the W x W pixel centres */
+    tc_overshoot_stats over;   /* the W x W tile against its own triangles' corner
+                                * values (threshold BENCH_OVER_THRESHOLD) */
+    tc_overshoot_stats exact_over; /* the exact B's own, on the same mesh (the same
+                                    * for every method of the mesh) */
     double *scan;              /* [BENCH_SCAN_N] |ref - rec| / scale along x = BENCH_SCAN_X */
     /* The tangent planes the method used at the triangle corners against the
      * scene's corner gradients (one-sided differences): has_tangents = 0 for
@@ -34,7 +38,7 @@ typedef struct {
     double tan_impact, tan_max, tan_rms, tan_at[2], tan_scene, tan_used;
     /* Scenes with a box: the share of the summed |ref - rec| over the pixels
      * that lies within BENCH_CORNER_RADIUS of the footprint's corners (from the
-     * rendered tile); NAN for other scenes. */
+     * untimed render); NAN for other scenes. */
     double corner_share;
 } bench_result;
 
@@ -53,5 +57,11 @@ double bench_result_run_ms(const bench_result *r);
 
 /* results.csv: a header line, then one line per entry in the order measured. */
 int bench_results_write_csv(const bench_results *rs, const char *path);
+
+/* <scene>-scanline.csv: x, y, the exact B, then |ref - rec| / scale of every
+ * method on the disc mesh N = BENCH_REP_DENSITY and of linear on every uniform
+ * mesh, one column each, named "method@mesh label". */
+int bench_scanlines_write_csv(const bench_results *rs, int scene, const double *scan_xy, const double *scan_ref,
+                              const char *path);
 
 #endif

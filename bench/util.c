@@ -1,9 +1,8 @@
-/* util.c — small helpers shared by the report's modules: a monotonic clock,
- * medians, progress lines on stderr, files and directories, number formatting. */
+/* util.c — small helpers shared by the measurement's modules: a monotonic clock,
+ * medians, progress lines on stderr, files and directories, CSV fields, shell lines. */
 #include "util.h"
 
 #include <errno.h>
-#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,45 +69,17 @@ int bench_write_file(const char *path, const void *data, size_t n) {
     return bad ? -1 : 0;
 }
 
-char *bench_read_file(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "report: cannot read %s: %s\n", path, strerror(errno));
-        return NULL;
+void bench_csv_text(tc_strbuf *b, const char *s) {
+    if (!strpbrk(s, ",\"\n")) {
+        tc_strbuf_puts(b, s);
+        return;
     }
-    size_t cap = 1 << 14, len = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        len += fread(buf + len, 1, cap - len - 1, f);
-        if (len < cap - 1) break;
-        char *nb = realloc(buf, cap *= 2);
-        if (!nb) free(buf);
-        buf = nb;
+    tc_strbuf_putc(b, '"');
+    for (; *s; s++) {
+        if (*s == '"') tc_strbuf_putc(b, '"');
+        tc_strbuf_putc(b, *s == '\n' ? ' ' : *s);
     }
-    fclose(f);
-    if (buf) buf[len] = '\0';
-    return buf;
-}
-
-void bench_fmt_g3(char *buf, size_t n, double x) {
-    if (!isfinite(x)) snprintf(buf, n, "n/a");
-    else if (x == 0) snprintf(buf, n, "0");
-    else if (fabs(x) < 1e-4 || fabs(x) >= 1e6) snprintf(buf, n, "%.2e", x);
-    else snprintf(buf, n, "%.3g", x);
-}
-
-void bench_fmt_ms(char *buf, size_t n, double ms) {
-    if (!isfinite(ms)) snprintf(buf, n, "n/a");
-    else if (ms >= 100) snprintf(buf, n, "%.0f", ms);
-    else if (ms >= 0.001) snprintf(buf, n, "%.3g", ms);
-    else snprintf(buf, n, "%.2g", ms);
-}
-
-void bench_fmt_ratio(char *buf, size_t n, double r) {
-    if (!isfinite(r) || r <= 0) snprintf(buf, n, "n/a");
-    else if (r >= 100) snprintf(buf, n, "%.0f", r);
-    else if (r >= 10) snprintf(buf, n, "%.1f", r);
-    else snprintf(buf, n, "%.2f", r);
+    tc_strbuf_putc(b, '"');
 }
 
 void bench_command_line(const char *cmd, char *buf, size_t n, const char *fallback) {

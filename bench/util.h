@@ -1,9 +1,11 @@
-/* util.h — small helpers shared by the report's modules: a monotonic clock,
- * medians, progress lines on stderr, files and directories, number formatting. */
+/* util.h — small helpers shared by the measurement's modules: a monotonic clock,
+ * medians, progress lines on stderr, files and directories, CSV fields, shell lines. */
 #ifndef BENCH_UTIL_H
 #define BENCH_UTIL_H
 
 #include <stddef.h>
+
+#include "io/strbuf.h"
 
 /* CLOCK_MONOTONIC in milliseconds. */
 double bench_now_ms(void);
@@ -19,15 +21,9 @@ void bench_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 int bench_mkdirs(const char *path);
 /* Writes n bytes to path (replacing it); 0 or -1 with a message on stderr. */
 int bench_write_file(const char *path, const void *data, size_t n);
-/* Reads a whole text file (NUL-terminated, free() it), or NULL with a message on stderr. */
-char *bench_read_file(const char *path);
 
-/* Numbers for tables and prose: g3 = 3 significant digits ("0.000123",
- * "1.23e-07" below 1e-4), ms = milliseconds with 3 significant digits,
- * ratio = "12×"-style factor with 2 significant digits (3 below 10). */
-void bench_fmt_g3(char *buf, size_t n, double x);
-void bench_fmt_ms(char *buf, size_t n, double ms);
-void bench_fmt_ratio(char *buf, size_t n, double r);
+/* A CSV field: quoted (doubling quotes) when it holds a comma, quote or newline. */
+void bench_csv_text(tc_strbuf *b, const char *s);
 
 /* Trimmed first line of `cmd`'s output (popen), or `fallback`. */
 void bench_command_line(const char *cmd, char *buf, size_t n, const char *fallback);
