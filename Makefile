@@ -32,7 +32,9 @@ CORE_SRC := $(wildcard src/core/*.c)
 IO_SRC   := $(wildcard src/io/*.c) $(wildcard src/image/*.c) $(wildcard src/scenes/*.c)
 CLI_SRC  := $(wildcard src/cli/*.c)
 SRV_SRC  := $(wildcard src/server/*.c)
-TEST_SRC := tests/main.c $(wildcard tests/unit/*.c) $(wildcard tests/stability/*.c)
+# tests/support: the C helpers the unit and stability suites share (test meshes, property
+# checks), beside tests/pylib, their Python counterpart.
+TEST_SRC := tests/main.c $(wildcard tests/support/*.c) $(wildcard tests/unit/*.c) $(wildcard tests/stability/*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 LIB_OBJ  := $(call obj,$(CORE_SRC) $(IO_SRC))
@@ -50,8 +52,7 @@ $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
-$(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests
-$(BUILD)/obj/tests/stability/%.o: ALL_CFLAGS += -Itests/unit
+$(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 $(BUILD)/obj/src/core/ct_span.o: ALL_CFLAGS += -Wno-psabi
 
