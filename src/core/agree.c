@@ -4,7 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/internal.h"
+#include "core/alloc.h"
+#include "core/mesh_build.h"
 
 /* A tolerance below this is rounding of the front-end's own arithmetic (and
  * what a zero-filled description gets: the strict check of old). */

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/range.h"
 
 static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, int ch, double *lo, double *hi) {

@@ -4,10 +4,10 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "core/fhypot.h"
 #include "core/ct.h"
+#include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/plane.h"
 
 const char *const tc__ct_labels[TC_CT_ORDINATES] = {

@@ -44,6 +44,13 @@ int tc__ct_ordinates(const tc_ct_input *in, double *coef, tc_diags *dg);
  * ordinates, so every ordinate stays inside the bound of `mode` (range.h). */
 int tc__ct_ordinates_ranged(const tc_ct_input *in, tc_range mode, double *cg, double *coef, tc_diags *dg);
 
+struct tc_recon;
+
+/* The method row's build of the cubics (clough-tocher, clough-tocher-c1;
+ * pipeline.c): the tangent-plane pipeline, then the ordinates (limited unless
+ * range is free). */
+int tc__ct_build(struct tc_recon *r, tc_diags *dg);
+
 /* Value and gradient of the piece with ordinates o at `at`. grad may be NULL. */
 void tc__ct_eval(const double *o, const tc_at *at, double *value, double *grad);
 

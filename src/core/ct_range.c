@@ -25,9 +25,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/ct.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/range.h"
 
 /* The directions of a corner's two edge ordinates: (p - v) / 3. */

@@ -4,10 +4,11 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/hermite.h"
-#include "core/internal.h"
 #include "core/lsq.h"
+#include "core/pipeline.h"
 #include "core/recon.h"
 #include "core/wedge.h"
 
@@ -473,7 +474,7 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
  * planes of a C0 edge share, so C0 edges keep their kink and C-1 their jump. */
 int tc__hermite_build(struct tc_recon *r, tc_diags *dg) {
     tc_plane_use use = {hermite_dirs, r->m, 1};
-    int st = tc__recon_planes(r, &use, dg);
+    int st = tc__planes_build(r, &use, dg);
     if (st != TC_OK) return st;
     twists tw;
     st = twists_build(r, &tw);

@@ -20,6 +20,11 @@ extern const char *const tc__hermite_labels[TC_HERMITE_COEFS];
  * there is none. Always finite. */
 void tc__bilinear_inverse(const double P[4][2], const double d[2], double st[2]);
 
+struct tc_recon;
+
+/* The method row's build: tangent planes (pipeline.h), twists, patches. */
+int tc__hermite_build(struct tc_recon *r, tc_diags *dg);
+
 /* Value and gradient (grad may be NULL) of one channel's patch at `at`. */
 void tc__hermite_eval(const double *coef, const tc_at *at, double *value, double *grad);
 

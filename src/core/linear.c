@@ -3,7 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/internal.h"
+#include "core/linear.h"
+#include "core/mesh.h"
 #include "core/recon.h"
 
 const char *const tc__constant_labels[1] = {"mean"};

@@ -5,9 +5,10 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh_build.h"
 
 void tc_mesh_free(tc_mesh *m) {
     if (!m) return;

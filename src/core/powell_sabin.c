@@ -43,9 +43,12 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
+#include "core/pipeline.h"
+#include "core/powell_sabin.h"
 #include "core/recon.h"
 #include "core/wedge.h"
 
@@ -297,7 +300,7 @@ int tc__ps_build(struct tc_recon *r, tc_diags *dg) {
     for (int32_t t = 0; t < m->nt && st == TC_OK; t++)
         if (geometry(m, r->method->honour, t, &geo[t], dg) != TC_OK) st = TC_EINVAL;
     tc_plane_use use = {ps_dirs, geo, 0};
-    if (st == TC_OK) st = tc__recon_planes(r, &use, dg);
+    if (st == TC_OK) st = tc__planes_build(r, &use, dg);
     for (int32_t t = 0; t < m->nt && st == TC_OK; t++) triangle(r, t, &geo[t]);
     free(geo);
     return st;

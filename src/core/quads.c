@@ -4,8 +4,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh_build.h"
 
 void tc__elem_path(const struct tc_mesh *m, int32_t t, char *buf, size_t n) {
     if (m->nq) snprintf(buf, n, "quads[%d]", (int)(t / 2));

@@ -6,10 +6,10 @@
 #include <string.h>
 
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/qp.h"
-#include "core/recon.h"
 #include "core/range.h"
+#include "core/recon.h"
 
 /* ---- statistics and warnings ---- */
 

@@ -6,12 +6,12 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "core/alloc.h"
 #include "core/ct.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/locate.h"
+#include "core/mesh.h"
 #include "core/recon.h"
 
 #define BAND_ROWS 16 /* rows per unit of work: small enough to balance threads */
@@ -39,12 +39,6 @@ typedef struct {
     const job *jb;
     int32_t j0, j1;
 } band;
-
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 /* Pixel index range [lo, hi] whose centres may fall in [a, b] along an axis of
  * n pixels starting at origin with the given step (widened by one pixel on each
@@ -217,7 +211,7 @@ static void *worker(void *arg) {
     for (;;) {
         int32_t b = atomic_fetch_add(&jb->next_band, 1);
         if (b >= jb->nbands || atomic_load(&jb->timed_out)) return NULL;
-        if (jb->o->deadline_ms > 0 && now_ms() > jb->o->deadline_ms) {
+        if (jb->o->deadline_ms > 0 && tc_now_ms() > jb->o->deadline_ms) {
             atomic_store(&jb->timed_out, 1);
             return NULL;
         }

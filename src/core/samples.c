@@ -6,7 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/internal.h"
+#include "core/alloc.h"
+#include "core/mesh_build.h"
 
 /* Per-corner entries name elements: triangles (3 corners), or on a quad mesh
  * quads (4 corners, each landing on one or two split-triangle corners). */

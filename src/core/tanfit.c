@@ -26,10 +26,11 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/lsq.h"
+#include "core/mesh.h"
 #include "core/tanfit.h"
 
 /* Two vertex rings give a cubic 18 samples on a regular mesh; narrow wedges and

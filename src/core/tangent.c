@@ -7,7 +7,7 @@
 
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/plane.h"
 #include "core/tanfit.h"
 #include "core/tangent.h"

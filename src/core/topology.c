@@ -4,8 +4,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh_build.h"
 
 /* Corners of each vertex, in increasing triangle order (a counting sort). */
 static int build_vertex_corners(struct tc_mesh *m) {

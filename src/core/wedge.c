@@ -2,8 +2,9 @@
  * faces around each vertex into wedges by walking its fan between delimiters. */
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/wedge.h"
 
 void tc__wedges_free(tc_wedge_set *ws) {

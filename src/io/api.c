@@ -2,7 +2,6 @@
  * endpoint. The CLI and the daemon both call these, so their output is one. */
 #include <math.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "image/image.h"
 #include "io/api.h"
@@ -23,15 +22,9 @@ void tc_api_result_init(tc_api_result *res) {
 
 void tc_api_result_free(tc_api_result *res) { tc_diags_free(&res->diags); }
 
-double tc_api_now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 /* Adds the time since *t0 to phase p and restarts the clock. */
 static void lap(tc_api_result *res, int p, double *t0) {
-    double t = tc_api_now_ms();
+    double t = tc_now_ms();
     res->ms[p] += t - *t0;
     *t0 = t;
 }
@@ -109,7 +102,7 @@ static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
 }
 
 int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    double t0 = tc_now_ms();
     job j = {0};
     if (job_build(&j, body, len, TC_REQ_MESH, lim, res, &t0) != 200) {
         job_free(&j);
@@ -146,7 +139,7 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b) {
 
 int tc_api_evaluate(const char *body, size_t len, const char *points, size_t plen, const tc_api_limits *lim,
                     tc_strbuf *out, tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    double t0 = tc_now_ms();
     job j = {0};
     tc_request *pts = NULL;
     unsigned expect = points ? TC_REQ_MESH : TC_REQ_MESH | TC_REQ_POINTS;
@@ -282,7 +275,7 @@ static int check_format(const job *j, int fmt, tc_api_result *res) {
 
 int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
                   tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    double t0 = tc_now_ms();
     job j = {0};
     tile t = {0};
     if (job_build(&j, body, len, TC_REQ_MESH | TC_REQ_VIEWPORT, lim, res, &t0) == 200) {
@@ -321,9 +314,9 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
     tc_diags_init(&dg);
     tc_strbuf_putc(b, '{');
     tc_json_options(b, o);
-    double t_build = tc_api_now_ms();
+    double t_build = tc_now_ms();
     int st = tc_recon_new(j->mesh, o, &r, &dg);
-    double build_ms = tc_api_now_ms() - t_build;
+    double build_ms = tc_now_ms() - t_build;
     lap(res, TC_PHASE_BUILD, t0);
     if (st != TC_OK) {
         tc_strbuf_puts(b, ",\"error\":{\"path\":");
@@ -333,9 +326,9 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
         tc_strbuf_puts(b, "}}");
     } else {
         tc_error_stats e;
-        double t_eval = tc_api_now_ms();
+        double t_eval = tc_now_ms();
         tc_compare(r, L, q->nreference, q->reference_points, q->reference_values, q->reference_scale, &e);
-        double eval_ms = tc_api_now_ms() - t_eval;
+        double eval_ms = tc_now_ms() - t_eval;
         lap(res, TC_PHASE_EVALUATE, t0);
         compare_member_number(b, "build_ms", build_ms);
         compare_member_number(b, "evaluate_ms", eval_ms);
@@ -350,7 +343,7 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
 }
 
 int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    double t0 = tc_now_ms();
     job j = {0};
     int rs = tc_request_parse(body, len, TC_REQ_MESH | TC_REQ_REFERENCE, &j.req, &res->diags);
     lap(res, TC_PHASE_PARSE, &t0);

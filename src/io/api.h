@@ -17,7 +17,7 @@ extern const char *const tc_phase_names[TC_NPHASES];
 typedef struct {
     int64_t max_vertices, max_triangles, max_points, max_pixels;
     int render_threads;  /* worker threads for one render (>= 1) */
-    double deadline_ms;  /* CLOCK_MONOTONIC time (tc_api_now_ms) after which work stops; 0 = none */
+    double deadline_ms;  /* tc_now_ms() time after which work stops; 0 = none */
 } tc_api_limits;
 
 typedef struct {
@@ -31,7 +31,6 @@ typedef struct {
     const char *content_type; /* of the 200 body: "application/json" or an image type */
 } tc_api_result;
 
-double tc_api_now_ms(void);
 void tc_api_result_init(tc_api_result *res);
 void tc_api_result_free(tc_api_result *res);
 

@@ -18,7 +18,7 @@
 
 /* What the server knows about one request between the callbacks. */
 typedef struct {
-    double t0; /* tc_api_now_ms() at the first call */
+    double t0; /* tc_now_ms() at the first call */
     const tc_route *route;
     int route_index;
     char method[16];
@@ -50,7 +50,7 @@ static request *request_new(const tc_http_state *st, const char *url, const char
     if (!q) return NULL;
     q->path = strdup(url ? url : "");
     if (!q->path) return free(q), NULL;
-    q->t0 = tc_api_now_ms();
+    q->t0 = tc_now_ms();
     snprintf(q->method, sizeof q->method, "%s", method ? method : "");
     q->route = tc_route_find(q->path, &q->route_index);
     tc_body_init(&q->body, (size_t)st->cfg->max_body);
@@ -115,7 +115,7 @@ static void server_timing(const request *q, const tc_api_result *res, char *out,
     size_t k = 0;
     for (int i = 0; i < TC_NPHASES && k < n; i++)
         k += (size_t)snprintf(out + k, n - k, "%s;dur=%.3f, ", tc_phase_names[i], res->ms[i]);
-    if (k < n) snprintf(out + k, n - k, "total;dur=%.3f", tc_api_now_ms() - q->t0);
+    if (k < n) snprintf(out + k, n - k, "total;dur=%.3f", tc_now_ms() - q->t0);
 }
 
 /* An image carries no JSON "warnings", so a 200 that is not JSON repeats them
@@ -175,7 +175,7 @@ static enum MHD_Result send_reply(const tc_http_state *st, struct MHD_Connection
     }
     if (ok == MHD_YES) {
         q->queued = 1, q->status = status, q->bytes = len;
-        tc_metrics_answered(q->route_index, status, (tc_api_now_ms() - q->t0) * 1e-3, r->res.triangles,
+        tc_metrics_answered(q->route_index, status, (tc_now_ms() - q->t0) * 1e-3, r->res.triangles,
                             r->res.pixels);
     }
     tc_reply_free(r);
@@ -205,14 +205,14 @@ static enum MHD_Result first_call(tc_http_state *st, struct MHD_Connection *c, c
 }
 
 static int past_deadline(const tc_srv_config *cfg, const request *q) {
-    return cfg->request_timeout > 0 && tc_api_now_ms() - q->t0 > cfg->request_timeout * 1e3;
+    return cfg->request_timeout > 0 && tc_now_ms() - q->t0 > cfg->request_timeout * 1e3;
 }
 
 static int may_discard(const tc_srv_config *cfg, const request *q) {
     size_t slack = q->body.limit > DISCARD_MIN ? q->body.limit : DISCARD_MIN;
     if (q->received > q->body.limit + slack) return 0;
     double late_ms = (cfg->request_timeout + (double)cfg->connection_timeout) * 1e3;
-    return cfg->request_timeout <= 0 || tc_api_now_ms() - q->t0 <= late_ms;
+    return cfg->request_timeout <= 0 || tc_now_ms() - q->t0 <= late_ms;
 }
 
 /* Collects (or, for a route without a body, counts) upload data. Past the
@@ -264,7 +264,7 @@ static void run(const tc_http_state *st, struct MHD_Connection *c, request *q, t
     if (r->status < 500 && past_deadline(st->cfg, q)) {
         char detail[128];
         snprintf(detail, sizeof detail, "the request took %.1f s; this server allows %g s",
-                 (tc_api_now_ms() - q->t0) * 1e-3, st->cfg->request_timeout);
+                 (tc_now_ms() - q->t0) * 1e-3, st->cfg->request_timeout);
         tc_reply_problem(r, TC_PROBLEM_TIMEOUT, detail);
     }
 }
@@ -304,7 +304,7 @@ void tc_http_completed(void *cls, struct MHD_Connection *c, void **req_cls, enum
     request *q = *req_cls;
     if (!q) return;
     *req_cls = NULL;
-    double ms = tc_api_now_ms() - q->t0;
+    double ms = tc_now_ms() - q->t0;
     tc_log_request(q->method, q->path, q->status, q->bytes, ms, ending(toe));
     tc_metrics_end(q->route_index, q->queued);
     request_free(q);

@@ -7,7 +7,6 @@
 
 #include "core/ct.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/mesh.h"
 #include "core/recon.h"
 #include "stab.h"

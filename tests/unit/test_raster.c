@@ -6,7 +6,7 @@
 
 #include "check.h"
 #include "core/ct.h"
-#include "core/recon.h"
+#include "core/eval.h"
 #include "meshgen.h"
 #include "props.h"
 
