@@ -313,12 +313,12 @@ static int scene_command(int argc, char **argv) {
     tc_scene_mesh *m = NULL;
     if (sa.windowed) tc_scene_init_domain(&s, id, sa.window);
     else tc_scene_init(&s, id);
-    int st = tc_scene_mesh_new(&s, &o, &m);
-    if (st != TC_OK) {
+    int status = tc_scene_mesh_new(&s, &o, &m);
+    if (status != TC_OK) {
         const char *why = tc_scene_mesh_opts_check(&o);
-        fprintf(stderr, "tocher: scene %s: %s\n", name, st == TC_ELIMIT ? "the mesh would exceed 2^24 triangles" :
-                        st == TC_ENOMEM ? "out of memory" : why ? why : "invalid options");
-        return st == TC_ENOMEM ? EXIT_INTERNAL : EXIT_INPUT;
+        fprintf(stderr, "tocher: scene %s: %s\n", name, status == TC_ELIMIT ? "the mesh would exceed 2^24 triangles" :
+                        status == TC_ENOMEM ? "out of memory" : why ? why : "invalid options");
+        return status == TC_ENOMEM ? EXIT_INTERNAL : EXIT_INPUT;
     }
     tc_options opt;
     tc_strbuf b;

@@ -13,8 +13,8 @@ extern const char *const tc__linear4_labels[6];
 int tc__constant_build(struct tc_recon *r, tc_diags *dg);
 int tc__linear_build(struct tc_recon *r, tc_diags *dg);
 int tc__linear4_build(struct tc_recon *r, tc_diags *dg);
-void tc__constant_eval(const double *coef, const tc_at *at, double *value, double *grad);
-void tc__linear_eval(const double *coef, const tc_at *at, double *value, double *grad);
-void tc__linear4_eval(const double *coef, const tc_at *at, double *value, double *grad);
+void tc__constant_eval(const double *coef, const tc__eval_point *at, double *value, double *grad);
+void tc__linear_eval(const double *coef, const tc__eval_point *at, double *value, double *grad);
+void tc__linear4_eval(const double *coef, const tc__eval_point *at, double *value, double *grad);
 
 #endif

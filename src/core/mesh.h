@@ -35,8 +35,8 @@ struct tc_mesh {
     int32_t nq;         /* quads as given, or 0 for a mesh given as triangles */
     int32_t *quad;      /* [nq][4] as given, or NULL */
 
-    double *cg;         /* [nt][3][nc][2] given tangent gradients, or NULL */
-    uint8_t *cg_has;    /* [3nt] 1 where cg holds a given gradient, or NULL */
+    double *given_grad; /* [nt][3][nc][2] tangent gradients the request gave, or NULL */
+    uint8_t *given_grad_has; /* [3nt] 1 where given_grad holds one, or NULL */
     double *mid;        /* [nt][3][nc] midpoint sample of edge k, or NULL */
     uint8_t *mid_has;   /* [3nt] 1 where mid holds a sample, or NULL */
     double *hess;       /* [nv][nc][3] given second derivatives (fxx, fxy, fyy), or NULL */

@@ -13,15 +13,15 @@ struct tc_recon;
  * limiter (range.h): the directions per corner, and whether a piece spans a
  * quad (its bound is the quad's). NULL dirs: the planes are not limited. */
 typedef struct {
-    tc_plane_dirs_fn dirs;
+    tc__plane_dirs_fn dirs;
     const void *ctx;
     int per_quad;
-} tc_plane_use;
+} tc__plane_use;
 
-/* Fills r->cgrad (allocating it) with each corner's wedge plane, limited for
+/* Fills r->planes (allocating it) with each corner's wedge plane, limited for
  * `use` unless r->opt.range is free. Corner values are the mesh's, so the
  * method must not have honour TC_HONOR_NONE on C-1 data (the cubic's own build
  * merges them). */
-int tc__planes_build(struct tc_recon *r, const tc_plane_use *use, tc_diags *dg);
+int tc__planes_build(struct tc_recon *r, const tc__plane_use *use, tc_diags *dg);
 
 #endif

@@ -13,7 +13,7 @@ struct tc_recon;
 enum { TC_PS_COEFS = 25, TC_PS_ORDINATES = 19 };
 extern const char *const tc__ps_labels[TC_PS_COEFS];
 int tc__ps_build(struct tc_recon *r, tc_diags *dg);
-void tc__ps_eval(const double *coef, const tc_at *at, double *value, double *grad);
+void tc__ps_eval(const double *coef, const tc__eval_point *at, double *value, double *grad);
 
 /* Piece p (0..5) of the 6-split extended to any point, for tests: piece 2k + h
  * lies on edge k, next to its corner k (h = 0) or k+1 (h = 1). */

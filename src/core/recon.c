@@ -13,7 +13,7 @@
 void tc_recon_free(tc_recon *r) {
     if (!r) return;
     free(r->coef);
-    free(r->cgrad);
+    free(r->planes);
     free(r);
 }
 
@@ -62,10 +62,10 @@ static int build(struct tc_recon *r, tc_diags *dg) {
     r->method = mt, r->ncoef = mt->ncoef, r->labels = mt->labels, r->eval = mt->eval;
     r->coef = tc__malloc((size_t)m->nt * m->nc, (size_t)r->ncoef * sizeof *r->coef);
     if (!r->coef) return TC_ENOMEM;
-    int st = mt->build(r, dg);
-    if (st == TC_OK) st = check_bounded(r, dg);
-    if (st == TC_OK) warn_c0_ignored(r, dg);
-    return st;
+    int rc = mt->build(r, dg);
+    if (rc == TC_OK) rc = check_bounded(r, dg);
+    if (rc == TC_OK) warn_c0_ignored(r, dg);
+    return rc;
 }
 
 /* The channels whose data are all >= 0: a restricted range keeps them so. */
@@ -91,22 +91,22 @@ static void quad_paths(const struct tc_mesh *m, tc_diags *dg, int from) {
     }
 }
 
-int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags *diags) {
+int tc_recon_new(const tc_mesh *m, const tc_options *opt, tc_recon **out, tc_diags *diags) {
     *out = NULL;
     struct tc_recon *r = calloc(1, sizeof *r);
     if (!r) return TC_ENOMEM;
     r->m = m;
-    if (o) r->opt = *o;
+    if (opt) r->opt = *opt;
     else tc_options_default(&r->opt);
     int from = diags ? diags->count : 0;
-    int st = build(r, diags);
-    if (st == TC_OK && r->opt.range == TC_RANGE_FREE && r->method->ordinates)
+    int rc = build(r, diags);
+    if (rc == TC_OK && r->opt.range == TC_RANGE_FREE && r->method->ordinates)
         tc__range_report_free(r, r->method->ordinates, diags);
-    if (st == TC_OK && r->opt.range != TC_RANGE_FREE && r->method->ordinates) set_floors(r);
+    if (rc == TC_OK && r->opt.range != TC_RANGE_FREE && r->method->ordinates) set_floors(r);
     quad_paths(m, diags, from);
-    if (st != TC_OK) {
+    if (rc != TC_OK) {
         tc_recon_free(r);
-        return st;
+        return rc;
     }
     *out = r;
     return TC_OK;
@@ -117,4 +117,4 @@ const tc_options *tc_recon_options(const tc_recon *r) { return &r->opt; }
 int tc_recon_coef_count(const tc_recon *r) { return r->ncoef; }
 const char *tc_recon_coef_label(const tc_recon *r, int i) { return i >= 0 && i < r->ncoef ? r->labels[i] : NULL; }
 const double *tc_recon_coefs(const tc_recon *r) { return r->coef; }
-const double *tc_recon_corner_gradients(const tc_recon *r) { return r->cgrad; }
+const double *tc_recon_corner_gradients(const tc_recon *r) { return r->planes; }

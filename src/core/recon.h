@@ -7,16 +7,17 @@
 
 /* Invariants once tc_recon_new returns TC_OK: method is the row of opt.method;
  * ncoef, labels and eval are its; coef holds nt * nc * ncoef finite numbers of
- * magnitude <= 1e300; cgrad is NULL or holds 3nt * nc planes. */
+ * magnitude <= 1e300; planes is NULL or holds 3nt * nc of them. */
 struct tc_recon {
     const struct tc_mesh *m;
     tc_options opt;
     const tc__method *method;  /* the row of opt.method; ncoef, labels, eval are its */
     int ncoef;
     const char *const *labels; /* [ncoef] */
-    tc_piece_eval eval;
+    tc__piece_eval eval;
     double *coef;              /* [nt][nc][ncoef] */
-    double *cgrad;             /* [3nt][nc][2] corner planes used, or NULL */
+    double *planes;            /* [3nt][nc][2] each corner's (wedge's) plane, the ones the
+                                * coefficients were built from, or NULL */
     /* Per channel: its data are all >= 0 and the range is restricted, so its
      * ordinates are >= 0 to within rounding (range.h); the evaluators return
      * the few values a rounding puts below 0 as 0 (never more than ~1e-12 of

@@ -161,42 +161,42 @@ static int match_level(span range, int a) {
 }
 
 /* Records one element of the header ("type/subtype; params"). */
-static void accept_element(acc_state *st, const char *p, size_t n, int pos) {
+static void accept_element(acc_state *acc, const char *p, size_t n, int pos) {
     size_t k = until_unquoted(p, n, ';');
     span range = trim(p, k);
     int q = element_q(p + k, n - k);
     if (range.n == 0 || q < 0) return; /* malformed: ignored */
     for (int a = 0; a < ACC_N; a++) {
         int lv = match_level(range, a);
-        if (lv > st->level[a]) st->level[a] = lv, st->q[a] = q, st->pos[a] = pos;
+        if (lv > acc->level[a]) acc->level[a] = lv, acc->q[a] = q, acc->pos[a] = pos;
     }
 }
 
-static int accept_choice(const acc_state *st) {
+static int accept_choice(const acc_state *acc) {
     int best = -1, wild_q = 0;
     for (int a = 0; a < ACC_N; a++) {
-        if (st->level[a] < 3) {
-            if (st->level[a] && st->q[a] > wild_q) wild_q = st->q[a];
-        } else if (st->q[a] > 0 &&
-                   (best < 0 || st->q[a] > st->q[best] || (st->q[a] == st->q[best] && st->pos[a] < st->pos[best]))) {
+        if (acc->level[a] < 3) {
+            if (acc->level[a] && acc->q[a] > wild_q) wild_q = acc->q[a];
+        } else if (acc->q[a] > 0 &&
+                   (best < 0 || acc->q[a] > acc->q[best] || (acc->q[a] == acc->q[best] && acc->pos[a] < acc->pos[best]))) {
             best = a;
         }
     }
-    return best >= 0 && st->q[best] >= wild_q ? (int)acc_format[best] : -1;
+    return best >= 0 && acc->q[best] >= wild_q ? (int)acc_format[best] : -1;
 }
 
 int tc_img_format_from_accept(const char *accept) {
     if (!accept) return -1;
-    acc_state st = {{0}, {0}, {0}};
+    acc_state acc = {{0}, {0}, {0}};
     const char *p = accept;
     size_t left = strlen(accept);
     for (int pos = 0; left; pos++) {
         size_t n = until_unquoted(p, left, ',');
-        accept_element(&st, p, n, pos);
+        accept_element(&acc, p, n, pos);
         size_t step = n < left ? n + 1 : n; /* past the comma */
         p += step, left -= step;
     }
-    return accept_choice(&st);
+    return accept_choice(&acc);
 }
 
 /* ---- the plugin ------------------------------------------------------------------ */

@@ -312,8 +312,8 @@ static int edit_distance(const char *a, const char *b) {
  * options table: slot nf + j is row j (io/options.c). */
 static int member_slot(const tc__field *fields, int nf, int with_opts, const char *name) {
     int i = tc__field_index(fields, nf, name);
-    const tc_opt *o = with_opts && i < 0 ? tc_opt_find(name) : NULL;
-    return o ? nf + (int)(o - tc_opts) : i;
+    const tc_opt *row = with_opts && i < 0 ? tc_opt_find(name) : NULL;
+    return row ? nf + (int)(row - tc_opts) : i;
 }
 
 static const char *slot_name(const tc__field *fields, int nf, int slot) {
