@@ -25,7 +25,7 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(WARN) \
 ALL_LDFLAGS = $(SAN) $(LDFLAGS)
 LIBS     := $(CJSON_LIBS) -lm -lpthread -ldl
 # The one C++ file: OpenImageIO behind a C interface, built as a plugin that
-# src/image/load.c opens on the first encode (non-image work never loads it).
+# src/image/plugin.c opens on the first encode (non-image work never loads it).
 ALL_CXXFLAGS = -std=c++17 $(OPT) -g $(SAN) -fPIC -Wall -Wextra -Werror -Iinclude -Isrc $(OIIO_CFLAGS) $(CXXFLAGS)
 
 CORE_SRC := $(wildcard src/core/*.c)
@@ -56,7 +56,7 @@ $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 $(BUILD)/obj/src/core/ct_span.o: ALL_CFLAGS += -Wno-psabi
 
-$(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h
+$(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h src/image/format.h
 	@mkdir -p $(dir $@)
 	$(CXX) $(ALL_CXXFLAGS) -shared $< $(OIIO_LIBS) -o $@
 

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "image/image.h"
+#include "io/accept.h"
 #include "io/api.h"
 #include "io/jsonout.h"
 #include "io/request.h"
@@ -214,9 +215,10 @@ typedef struct {
 
 static void tile_free(tile *t) { free(t->values), free(t->alpha), free(t->owner); }
 
-static int format_of(const tc_request *req, const char *accept) {
-    int f = req->format >= 0 ? req->format : accept ? tc_img_format_from_accept(accept) : -1;
-    return f >= 0 ? f : TC_IMG_PNG;
+/* The request's "format", else the caller's (an Accept header, a file's extension), else the default. */
+static int format_of(const tc_request *req, int fallback) {
+    int f = req->format >= 0 ? req->format : fallback;
+    return f >= 0 ? f : TC_IMG_DEFAULT;
 }
 
 /* Rasterizes the request's viewport into t; returns a core status. */
@@ -237,8 +239,8 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
     tc_locator_free(L);
     if (rc != TC_OK) return rc;
     for (size_t p = 0; p < np; p++) t->alpha[p] = t->owner[p] >= 0 ? 1.0f : 0.0f;
-    if (req->overlay) /* PNG shows v * 2^exposure: scale the overlay so it shows as drawn */
-        tc_render_overlay(j->recon, vp, fmt == TC_IMG_PNG || fmt == TC_IMG_PNG16 ? pow(2, -req->exposure) : 1,
+    if (req->overlay) /* a display-referred format shows v * 2^exposure: scale the overlay so it shows as drawn */
+        tc_render_overlay(j->recon, vp, tc_img_traits_of((tc_img_format)fmt)->display ? pow(2, -req->exposure) : 1,
                           t->values);
     return TC_OK;
 }
@@ -246,8 +248,7 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
 static int encode(const job *j, int fmt, const tile *t, tc_strbuf *out, tc_api_result *res) {
     const tc_request *req = j->req;
     int nc = tc_mesh_channel_count(j->mesh);
-    /* raw has no alpha; TIFF cannot mark alpha on 2 channels (3 samples read as RGB). */
-    int alpha = fmt != TC_IMG_RAW && !(fmt == TC_IMG_TIFF && nc == 2);
+    int alpha = tc_img_has_alpha((tc_img_format)fmt, nc);
     tc_img im = {req->viewport.width, req->viewport.height, nc, t->values, alpha ? t->alpha : NULL, req->exposure,
                  req->linear};
     unsigned char *bytes = NULL;
@@ -263,12 +264,16 @@ static int encode(const job *j, int fmt, const tile *t, tc_strbuf *out, tc_api_r
     return res->status = out->oom ? 500 : 200;
 }
 
-/* PNG holds grey or RGB only: refuse other channel counts before any work. */
+/* A format that cannot hold the mesh's channel count (PNG: grey or RGB only) is
+ * refused before any work. */
 static int check_format(const job *j, int fmt, tc_api_result *res) {
     int nc = tc_mesh_channel_count(j->mesh);
-    if ((fmt == TC_IMG_PNG || fmt == TC_IMG_PNG16) && nc != 1 && nc != 3) {
-        tc_diags_add(&res->diags, TC_SEV_ERROR, "format",
-                     "%s holds 1 or 3 channels; this mesh has %d (use exr, tiff or raw)", tc_img_format_name(fmt), nc);
+    char counts[96], use[96];
+    if (!tc_img_holds((tc_img_format)fmt, nc)) {
+        tc_img_format f = (tc_img_format)fmt;
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "format", "%s holds %s channels; this mesh has %d (use %s)",
+                     tc_img_format_name(f), tc_img_list_channels(f, counts, sizeof counts), nc,
+                     tc_img_list_holding(nc, 0, use, sizeof use));
         return res->status = 422;
     }
     return 200;
@@ -276,11 +281,16 @@ static int check_format(const job *j, int fmt, tc_api_result *res) {
 
 int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
                   tc_api_result *res) {
+    return tc_api_render_as(body, len, tc_accept_format(accept), lim, out, res);
+}
+
+int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_limits *lim, tc_strbuf *out,
+                     tc_api_result *res) {
     double t0 = tc_now_ms();
     job j = {0};
     tile t = {0};
     if (job_build(&j, body, len, TC_REQ_MESH | TC_REQ_VIEWPORT, lim, res, &t0) == 200) {
-        int fmt = format_of(j.req, accept);
+        int fmt = format_of(j.req, fallback);
         const tc_viewport *vp = &j.req->viewport;
         int64_t np = (int64_t)vp->width * vp->height;
         if (!over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") && check_format(&j, fmt, res) == 200) {

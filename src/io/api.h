@@ -44,10 +44,15 @@ int tc_api_evaluate(const char *body, size_t len, const char *points, size_t ple
                     tc_strbuf *out, tc_api_result *res);
 
 /* POST /v1/render: mesh + "viewport" {x0,y0,x1,y1,width,height} + "format"
- * (else from the Accept header, else png) + "exposure", "overlay", "background",
- * "linear". On 200 `out` holds the encoded image, res->content_type its type. */
+ * (else the one the Accept header asks for, io/accept.h, else png) + "exposure",
+ * "overlay", "background", "linear". On 200 `out` holds the encoded image,
+ * res->content_type its type. */
 int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
                   tc_api_result *res);
+/* The same with the format for a request without "format" given directly: a
+ * tc_img_format (the CLI's output extension), or -1 for the default. */
+int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_limits *lim, tc_strbuf *out,
+                     tc_api_result *res);
 
 /* POST /v1/compare: mesh + "reference" {points, values, scale} + "methods"
  * (names or option objects; default every method) -> for each method its

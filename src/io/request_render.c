@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "image/image.h"
+#include "image/format.h"
 #include "io/reader.h"
 #include "io/request_fields.h"
 
@@ -62,13 +62,15 @@ void tc__parse_viewport(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
 
 void tc__parse_format(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
     tc_img_format f;
+    char names[160];
     if (!tc__json_is(v, cJSON_String) || !v->valuestring) {
-        tc__rd_shape_error(rd, p, "expected a string (png, png16, exr, exr-half, tiff, raw), got %s", tc__json_kind(v));
+        tc__rd_shape_error(rd, p, "expected a string (%s), got %s", tc_img_list_names(names, sizeof names),
+                           tc__json_kind(v));
         return;
     }
     if (tc_img_format_parse(v->valuestring, &f)) {
-        tc__rd_value_error(rd, p, "unknown format '%.40s'; expected one of: png, png16, exr, exr-half, tiff, raw",
-                           v->valuestring);
+        tc__rd_value_error(rd, p, "unknown format '%.40s'; expected one of: %s", v->valuestring,
+                           tc_img_list_names(names, sizeof names));
         return;
     }
     rd->r->format = (int)f;
