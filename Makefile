@@ -26,14 +26,16 @@ ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(WARN) \
 ALL_LDFLAGS = $(SAN) $(LDFLAGS)
 LIBS     := $(CJSON_LIBS) -lm -lpthread -ldl
 # The one C++ file: OpenImageIO behind a C interface, built as a plugin that
-# src/image/load.c opens on the first encode (non-image work never loads it).
+# src/image/plugin.c opens on the first encode (non-image work never loads it).
 ALL_CXXFLAGS = -std=c++17 $(OPT) -g $(SAN) -fPIC -Wall -Wextra -Werror -Iinclude -Isrc $(OIIO_CFLAGS) $(CXXFLAGS)
 
 CORE_SRC := $(wildcard src/core/*.c)
 IO_SRC   := $(wildcard src/io/*.c) $(wildcard src/image/*.c) $(wildcard src/scenes/*.c)
 CLI_SRC  := $(wildcard src/cli/*.c)
 SRV_SRC  := $(wildcard src/server/*.c)
-TEST_SRC := tests/main.c $(wildcard tests/unit/*.c) $(wildcard tests/stability/*.c)
+# tests/support: the C helpers the unit and stability suites share (test meshes, property
+# checks), beside tests/pylib, their Python counterpart.
+TEST_SRC := tests/main.c $(wildcard tests/support/*.c) $(wildcard tests/unit/*.c) $(wildcard tests/stability/*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 LIB_OBJ  := $(call obj,$(CORE_SRC) $(IO_SRC))
@@ -51,12 +53,11 @@ $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
-$(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests
-$(BUILD)/obj/tests/stability/%.o: ALL_CFLAGS += -Itests/unit
+$(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 $(BUILD)/obj/src/core/ct_span.o: ALL_CFLAGS += -Wno-psabi
 
-$(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h
+$(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h src/image/format.h
 	@mkdir -p $(dir $@)
 	$(CXX) $(ALL_CXXFLAGS) -shared $< $(OIIO_LIBS) -o $@
 

@@ -369,9 +369,12 @@ void tc_viewport_pixel_center(const tc_viewport *vp, int32_t i, int32_t j, doubl
 typedef struct {
     const double *background; /* [C] value of pixels outside the mesh; NULL = 0 */
     int threads;              /* worker threads; <= 1 renders on the caller's thread */
-    double deadline_ms;       /* CLOCK_MONOTONIC milliseconds after which rendering
-                               * stops with TC_ETIMEOUT; 0 = none */
+    double deadline_ms;       /* tc_now_ms() after which rendering stops with
+                               * TC_ETIMEOUT; 0 = none */
 } tc_render_options;
+
+/* Milliseconds of CLOCK_MONOTONIC: the clock of deadline_ms (and of every timing). */
+double tc_now_ms(void);
 
 /* Renders r over vp into values[height][width][C] (each pixel the double that
  * tc_eval_points gives at its centre, rounded once to float) and, if owner is

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "image/format.h"
 #include "io/api.h"
 #include "io/options.h"
 #include "io/request_write.h"
@@ -39,9 +40,10 @@ static const char usage[] =
     "MESH.json is a request as POSTed to the daemon (see api/openapi.yaml):\n"
     "vertices, triangles, values, optional gradients, midpoints, discontinuities,\n"
     "and the options listed below. For eval, \"points\" and\n"
-    "\"with_gradients\" come from POINTS.json, or from MESH.json if it has them.\n"
-    "For render, the format is MESH.json's \"format\", else OUT's extension (.png\n"
-    ".exr .tif .tiff .raw), else png. A file name of - reads standard input.\n"
+    "\"with_gradients\" come from POINTS.json, or from MESH.json if it has them.\n";
+
+/* Then the render paragraph (render_help), then: */
+static const char usage_tail[] =
     "Output goes to standard output (or OUT); errors go to standard error,\n"
     "naming the JSON path at fault.\n"
     "\n"
@@ -54,13 +56,46 @@ static const char usage[] =
     "\n"
     "request options (the default first; in brackets the methods that read it):\n";
 
+/* Appends word to the paragraph in buf, starting a new line where the current
+ * one would pass `width` columns; *col is the current line's length. */
+static void wrap_word(char *buf, size_t cap, size_t *col, const char *word, size_t width) {
+    size_t len = strlen(buf), n = strlen(word);
+    if (len + n + 2 >= cap) return;
+    if (*col && *col + 1 + n > width) buf[len++] = '\n', *col = 0;
+    else if (*col) buf[len++] = ' ', (*col)++;
+    memcpy(buf + len, word, n + 1);
+    *col += n;
+}
+
+/* The render paragraph of the usage, the extensions from the format table. */
+static void render_help(char *buf, size_t cap) {
+    char text[512], exts[128] = "";
+    size_t n = 0, col = 0;
+    for (int f = 0; f < TC_IMG_NFORMATS; f++)
+        for (int i = 0; i < 3 && tc_img_traits_of((tc_img_format)f)->ext[i]; i++)
+            n += (size_t)snprintf(exts + n, n < sizeof exts ? sizeof exts - n : 0, "%s%s", n ? " " : "",
+                                  tc_img_traits_of((tc_img_format)f)->ext[i]);
+    snprintf(text, sizeof text,
+             "For render, the format is MESH.json's \"format\", else OUT's extension (%s), else %s. A file name of - "
+             "reads standard input.",
+             exts, tc_img_format_name(TC_IMG_DEFAULT));
+    buf[0] = '\0';
+    for (char *save = NULL, *w = strtok_r(text, " ", &save); w; w = strtok_r(NULL, " ", &save))
+        wrap_word(buf, cap, &col, w, 78);
+    if (strlen(buf) + 1 < cap) strcat(buf, "\n");
+}
+
 /* The usage, then every request option from the options table (io/options.c)
  * with what it accepts and which methods read it (the method table). */
 static void print_usage(FILE *f) {
     tc_options def_opt;
     tc_mesh_desc def_desc;
+    char render[600];
     tc_opt_defaults(&def_opt, &def_desc);
+    render_help(render, sizeof render);
     fputs(usage, f);
+    fputs(render, f);
+    fputs(usage_tail, f);
     for (int i = 0; i < tc_nopts; i++) {
         const tc_opt *row = &tc_opts[i];
         char accepts[256];
@@ -139,17 +174,6 @@ static int parse_args(int argc, char **argv, args *a) {
     return 0;
 }
 
-/* The "Accept" of the CLI: the output file's extension. */
-static const char *accept_of(const char *out) {
-    static const struct { const char *ext, *type; } map[] = {
-        {".png", "image/png"}, {".exr", "image/x-exr"}, {".tif", "image/tiff"},
-        {".tiff", "image/tiff"}, {".raw", "application/octet-stream"}};
-    const char *dot = out ? strrchr(out, '.') : NULL;
-    for (size_t i = 0; dot && i < sizeof map / sizeof map[0]; i++)
-        if (!strcmp(dot, map[i].ext)) return map[i].type;
-    return NULL;
-}
-
 static int dispatch(const args *a, const char *body, size_t len, const char *pts, size_t plen, tc_strbuf *out,
                     tc_api_result *res) {
     if (!strcmp(a->cmd, "ordinates")) return tc_api_ordinates(body, len, NULL, out, res);
@@ -157,7 +181,7 @@ static int dispatch(const args *a, const char *body, size_t len, const char *pts
     if (!strcmp(a->cmd, "compare")) return tc_api_compare(body, len, NULL, out, res);
     long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
     tc_api_limits lim = {0, 0, 0, 0, a->threads ? a->threads : (ncpu > 0 ? (int)ncpu : 1), 0};
-    return tc_api_render(body, len, accept_of(a->out), &lim, out, res);
+    return tc_api_render_as(body, len, tc_img_format_of_path(a->out), &lim, out, res); /* the extension's format */
 }
 
 static int run(const args *a) {
@@ -313,12 +337,12 @@ static int scene_command(int argc, char **argv) {
     tc_scene_mesh *m = NULL;
     if (sa.windowed) tc_scene_init_domain(&s, id, sa.window);
     else tc_scene_init(&s, id);
-    int st = tc_scene_mesh_new(&s, &o, &m);
-    if (st != TC_OK) {
+    int status = tc_scene_mesh_new(&s, &o, &m);
+    if (status != TC_OK) {
         const char *why = tc_scene_mesh_opts_check(&o);
-        fprintf(stderr, "tocher: scene %s: %s\n", name, st == TC_ELIMIT ? "the mesh would exceed 2^24 triangles" :
-                        st == TC_ENOMEM ? "out of memory" : why ? why : "invalid options");
-        return st == TC_ENOMEM ? EXIT_INTERNAL : EXIT_INPUT;
+        fprintf(stderr, "tocher: scene %s: %s\n", name, status == TC_ELIMIT ? "the mesh would exceed 2^24 triangles" :
+                        status == TC_ENOMEM ? "out of memory" : why ? why : "invalid options");
+        return status == TC_ENOMEM ? EXIT_INTERNAL : EXIT_INPUT;
     }
     tc_options opt;
     tc_strbuf b;

@@ -4,7 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/internal.h"
+#include "core/alloc.h"
+#include "core/mesh_build.h"
 
 /* A tolerance below this is rounding of the front-end's own arithmetic (and
  * what a zero-filled description gets: the strict check of old). */
@@ -72,10 +73,10 @@ static int joins(const struct tc_mesh *m, size_t c) {
 }
 
 static int check_edges(const agree *a, tc_diags *dg) {
-    int st = TC_OK;
+    int rc = TC_OK;
     for (size_t c = 0; c < 3 * (size_t)a->m->nt; c++)
-        if (joins(a->m, c) && check_edge(a, c, dg) != TC_OK) st = TC_EINVAL;
-    return st;
+        if (joins(a->m, c) && check_edge(a, c, dg) != TC_OK) rc = TC_EINVAL;
+    return rc;
 }
 
 /* ---- corners joined through C0/C1 edges: union-find over corner ids ---- */
@@ -148,14 +149,14 @@ static int average_corners(agree *a) {
     double *lo = tc__malloc(n * m->nc, sizeof *lo), *hi = tc__malloc(n * m->nc, sizeof *hi);
     double *sum = tc__malloc(n * m->nc, sizeof *sum);
     uint8_t *seen = tc__calloc((size_t)m->nv, sizeof *seen);
-    int st = up && cnt && lo && hi && sum && seen ? TC_OK : TC_ENOMEM;
-    if (st == TC_OK) {
+    int rc = up && cnt && lo && hi && sum && seen ? TC_OK : TC_ENOMEM;
+    if (rc == TC_OK) {
         group_corners(m, up);
         for (size_t c = 0; c < n; c++) up[c] = root(up, (int32_t)c); /* flat: up[c] is the root */
         average_groups(a, up, lo, hi, sum, cnt, seen);
     }
     free(up), free(cnt), free(lo), free(hi), free(sum), free(seen);
-    return st;
+    return rc;
 }
 
 /* ---- midpoint samples given for both sides of a C0/C1 edge ---- */
@@ -200,12 +201,12 @@ int tc__values_agree(struct tc_mesh *m, double tolerance, const int32_t *cv_src,
                      tc_diags *dg) {
     agree a = {m, cv_src, mid_src, fmax(tolerance, TOL_FLOOR), {0}, 0, 0, 0, 0, -1, -1};
     channel_scales(&a);
-    int st = TC_OK;
+    int rc = TC_OK;
     if (m->ncorner_overrides) { /* else every corner holds its vertex's value */
-        st = check_edges(&a, dg);
-        if (st == TC_OK) st = average_corners(&a);
+        rc = check_edges(&a, dg);
+        if (rc == TC_OK) rc = average_corners(&a);
     }
-    if (st == TC_OK) midpoints_agree(&a);
-    if (st == TC_OK) warn_averaged(&a, dg);
-    return st;
+    if (rc == TC_OK) midpoints_agree(&a);
+    if (rc == TC_OK) warn_averaged(&a, dg);
+    return rc;
 }

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/range.h"
 
 static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, int ch, double *lo, double *hi) {
@@ -19,7 +19,7 @@ static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, i
 
 /* Per wedge and channel, the range of every corner value of its faces: the
  * values around a vertex on one side of its delimiters. */
-static void wedge_ranges(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, double *wr) {
+static void wedge_ranges(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, double *wr) {
     int nc = m->nc;
     for (int32_t w = 0; w < ws->nw; w++)
         for (int ch = 0; ch < nc; ch++) {
@@ -50,12 +50,13 @@ static double minmod(double a, double b) { return a > 0 && b > 0 ? fmin(a, b) : 
  * at a vertex on the mesh's boundary it is a one-sided extrapolation: none. */
 enum { PLANE_DATA, PLANE_ESTIMATED, PLANE_NONE };
 
-static int plane_kind(const struct tc_mesh *m, const tc_wedge_set *ws, tc_tangents mode, size_t c) {
+static int plane_kind(const struct tc_mesh *m, const tc__wedge_set *ws, tc_tangents mode, size_t c) {
     int32_t t = (int32_t)(c / 3), k = (int32_t)(c % 3);
-    int given = m->cg_has && m->cg_has[c], mids = m->mid_has && m->mid_has[c] && m->mid_has[3 * t + (k + 2) % 3];
+    int given = m->given_grad_has && m->given_grad_has[c];
+    int mids = m->mid_has && m->mid_has[c] && m->mid_has[3 * t + (k + 2) % 3];
     if (given && (mode == TC_TANGENTS_AUTO || mode == TC_TANGENTS_GIVEN)) return PLANE_DATA;
     if (mids && (mode == TC_TANGENTS_AUTO || mode == TC_TANGENTS_MIDPOINTS)) return PLANE_DATA;
-    const tc_wedge *w = &ws->w[ws->of_corner[c]];
+    const tc__wedge *w = &ws->w[ws->of_corner[c]];
     for (int side = 0; side < 2; side++)
         if (w->side_edge[side] >= 0 && m->nbr[w->side_edge[side]] < 0) return PLANE_NONE;
     return PLANE_ESTIMATED;
@@ -68,41 +69,41 @@ static int plane_kind(const struct tc_mesh *m, const tc_wedge_set *ws, tc_tangen
  * fall to the other show one too (only then can a smooth function pass both
  * ends; a monotone edge shows nothing however steep its planes): the net of
  * such an edge passes the ends by about a third of the smaller slope. */
-static void bends(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
-                  tc_tangents mode, int32_t t, int ch, extent *x) {
+static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
+                  tc_tangents mode, int32_t t, int ch, extent *ext) {
     int nc = m->nc;
     for (int i = 0; i < 3; i++) {
         size_t ci = 3 * (size_t)t + i, cj = 3 * (size_t)t + (i + 1) % 3;
         if (m->mid_has && m->mid_has[ci]) {
             double zi = cz[ci * nc + ch], zj = cz[cj * nc + ch], mid = m->mid[ci * nc + ch];
-            x->data[0] = fmax(x->data[0], 4.0 / 3 * (mid - fmax(zi, zj)));
-            x->data[1] = fmax(x->data[1], 4.0 / 3 * (fmin(zi, zj) - mid));
+            ext->data[0] = fmax(ext->data[0], 4.0 / 3 * (mid - fmax(zi, zj)));
+            ext->data[1] = fmax(ext->data[1], 4.0 / 3 * (fmin(zi, zj) - mid));
         }
         int ki = plane_kind(m, ws, mode, ci), kj = plane_kind(m, ws, mode, cj);
-        if (!cg || ki == PLANE_NONE || kj == PLANE_NONE) continue;
+        if (!planes || ki == PLANE_NONE || kj == PLANE_NONE) continue;
         double e[2];
         tc__sub(e, tc__vxy(m, m->tri[cj]), tc__vxy(m, m->tri[ci]));
-        double di = tc__dot(cg + 2 * (ci * nc + ch), e), dj = tc__dot(cg + 2 * (cj * nc + ch), e);
-        double *to = ki == PLANE_DATA && kj == PLANE_DATA ? x->data : x->est;
+        double di = tc__dot(planes + 2 * (ci * nc + ch), e), dj = tc__dot(planes + 2 * (cj * nc + ch), e);
+        double *to = ki == PLANE_DATA && kj == PLANE_DATA ? ext->data : ext->est;
         to[0] = fmax(to[0], minmod(di, -dj) / 3), to[1] = fmax(to[1], minmod(-di, dj) / 3);
     }
 }
 
-static void extent_of(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
-                      const double *wr, tc_tangents mode, int per_quad, int32_t t, int ch, extent *x) {
+static void extent_of(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
+                      const double *wr, tc_tangents mode, int per_quad, int32_t t, int ch, extent *ext) {
     int nc = m->nc;
-    memset(x, 0, sizeof *x);
-    x->lo = x->around[0] = INFINITY, x->hi = x->around[1] = -INFINITY;
+    memset(ext, 0, sizeof *ext);
+    ext->lo = ext->around[0] = INFINITY, ext->hi = ext->around[1] = -INFINITY;
     for (int half = 0; half <= (per_quad && m->nq); half++) {
         int32_t u = half ? t ^ 1 : t;
         double a, b;
         corner_range(m, cz, u, ch, &a, &b);
-        x->lo = fmin(x->lo, a), x->hi = fmax(x->hi, b);
+        ext->lo = fmin(ext->lo, a), ext->hi = fmax(ext->hi, b);
         for (int k = 0; k < 3; k++) {
             const double *r = wr + 2 * ((size_t)ws->of_corner[3 * u + k] * nc + ch);
-            x->around[0] = fmin(x->around[0], r[0]), x->around[1] = fmax(x->around[1], r[1]);
+            ext->around[0] = fmin(ext->around[0], r[0]), ext->around[1] = fmax(ext->around[1], r[1]);
         }
-        bends(m, ws, cz, cg, mode, u, ch, x);
+        bends(m, ws, cz, planes, mode, u, ch, ext);
     }
 }
 
@@ -110,20 +111,20 @@ static void extent_of(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
  * of its spread, or by the bend the data show if more (an estimated plane's
  * only as far as the values around go), never below 0 where the corners are
  * >= 0; range "positive" keeps only that floor. */
-static void bound_of(const extent *x, tc_range mode, double *lo, double *hi) {
-    double floor = x->lo >= 0 ? 0 : -INFINITY, margin = TC_RANGE_MARGIN * (x->hi - x->lo);
+static void bound_of(const extent *ext, tc_range mode, double *lo, double *hi) {
+    double floor = ext->lo >= 0 ? 0 : -INFINITY, margin = TC_RANGE_MARGIN * (ext->hi - ext->lo);
     if (mode == TC_RANGE_POSITIVE) {
         *lo = floor, *hi = INFINITY;
         return;
     }
-    double up = fmax(x->data[0], fmin(x->est[0], fmax(0, x->around[1] - x->hi)));
-    double down = fmax(x->data[1], fmin(x->est[1], fmax(0, x->lo - x->around[0])));
-    *lo = fmax(x->lo - fmax(margin, down), floor);
-    *hi = x->hi + fmax(margin, up);
+    double up = fmax(ext->data[0], fmin(ext->est[0], fmax(0, ext->around[1] - ext->hi)));
+    double down = fmax(ext->data[1], fmin(ext->est[1], fmax(0, ext->lo - ext->around[0])));
+    *lo = fmax(ext->lo - fmax(margin, down), floor);
+    *hi = ext->hi + fmax(margin, up);
 }
 
-int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
-                     tc_tangents tangents, tc_range mode, int per_quad, tc_bounds *b) {
+int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
+                     tc_tangents tangents, tc_range mode, int per_quad, tc__bounds *b) {
     int nc = m->nc;
     memset(b, 0, sizeof *b);
     b->nc = nc;
@@ -146,15 +147,15 @@ int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
     }
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++) {
-            extent x;
-            extent_of(m, ws, cz, cg, wr, tangents, per_quad, t, ch, &x);
-            bound_of(&x, mode, &b->lo[(size_t)t * nc + ch], &b->hi[(size_t)t * nc + ch]);
+            extent ext;
+            extent_of(m, ws, cz, planes, wr, tangents, per_quad, t, ch, &ext);
+            bound_of(&ext, mode, &b->lo[(size_t)t * nc + ch], &b->hi[(size_t)t * nc + ch]);
         }
     free(wr);
     return TC_OK;
 }
 
-void tc__bounds_free(tc_bounds *b) {
+void tc__bounds_free(tc__bounds *b) {
     free(b->lo);
     free(b->hi);
     b->lo = b->hi = NULL;

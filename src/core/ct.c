@@ -4,10 +4,10 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "core/fhypot.h"
 #include "core/ct.h"
+#include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/plane.h"
 
 const char *const tc__ct_labels[TC_CT_ORDINATES] = {
@@ -45,10 +45,10 @@ static double tau_normal(const geom *g, int a, int b, int w) {
 /* tau for `affine`: towards the neighbour's centroid, c' - c = (w' - w)/3,
  * where the edge is C1 and has a neighbour; else from the edge midpoint to the
  * own centroid (tau = 1/2). Both neighbours pick the same line: C1. */
-static double tau_affine(const tc_ct_input *x, int32_t t, int k, const geom *g) {
-    const struct tc_mesh *m = x->m;
+static double tau_affine(const tc__ct_input *ci, int32_t t, int k, const geom *g) {
+    const struct tc_mesh *m = ci->m;
     int32_t e = 3 * t + k, t2 = m->nbr[e];
-    if (t2 < 0 || tc__eff_flag(m, x->ws->honor_flags, e) != TC_C1) return 0.5;
+    if (t2 < 0 || tc__eff_flag(m, ci->ws->honor_flags, e) != TC_C1) return 0.5;
     int a = k, b = (k + 1) % 3, w = (k + 2) % 3;
     double dw[2], ca[2], eb[2];
     tc__sub(dw, tc__vxy(m, m->tri[3 * (size_t)t2 + (size_t)(m->nbr_k[e] + 2) % 3]), tc__vxy(m, m->tri[3 * (size_t)t + w]));
@@ -91,16 +91,16 @@ typedef struct {
 /* The paper's rule: plane through the middle of aab-abb with the averaged
  * normal, projected to contain the control polygon's middle leg. *amp is the
  * projected slope over the larger input slope (literal only; else 1). */
-static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geom *g, const double *o, double *cab,
+static int cab_salesin(const tc__ct_input *ci, int32_t t, int k, int ch, const geom *g, const double *o, double *cab,
                        double *amp) {
-    const struct tc_mesh *m = x->m;
+    const struct tc_mesh *m = ci->m;
     int a = k, b = (k + 1) % 3, w = (k + 2) % 3, nc = m->nc;
     size_t ca = 3 * (size_t)t + a, cb = 3 * (size_t)t + b;
-    int c1 = tc__eff_flag(m, x->ws->honor_flags, 3 * t + k) == TC_C1;
-    const double *src = c1 ? x->cg : x->in;
+    int c1 = tc__eff_flag(m, ci->ws->honor_flags, 3 * t + k) == TC_C1;
+    const double *src = c1 ? ci->planes : ci->inputs;
     double gn[2], e[2], gp[2];
     const double *ga = src + 2 * (ca * nc + ch), *gb = src + 2 * (cb * nc + ch);
-    if (x->by_area) { /* linear in the data, like the wedge planes */
+    if (ci->by_area) { /* linear in the data, like the wedge planes */
         gn[0] = 0.5 * (ga[0] + gb[0]);
         gn[1] = 0.5 * (ga[1] + gb[1]);
     } else {
@@ -109,7 +109,7 @@ static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geo
     tc__sub(e, g->r[b], g->r[a]);
     double rise = 3 * (o[IIJ[b][a]] - o[IIJ[a][b]]); /* required g.e */
     *amp = 1;
-    if (x->wedges == TC_WEDGES_CORRECTED) {
+    if (ci->wedges == TC_WEDGES_CORRECTED) {
         double s = (rise - tc__dot(gn, e)) / tc__dot(e, e);
         gp[0] = gn[0] + s * e[0];
         gp[1] = gn[1] + s * e[1];
@@ -122,9 +122,9 @@ static int cab_salesin(const tc_ct_input *x, int32_t t, int k, int ch, const geo
             return -1;
         }
         tc__normal_to_grad(P, gp);
-        double in = fmax(tc__hypot(gn[0], gn[1]), fabs(rise) / tc__hypot(e[0], e[1]));
-        *amp = tc__hypot(gp[0], gp[1]) / in;
-        if (!(in > 0)) *amp = tc__hypot(gp[0], gp[1]) > 0 ? INFINITY : 1;
+        double larger = fmax(tc__hypot(gn[0], gn[1]), fabs(rise) / tc__hypot(e[0], e[1]));
+        *amp = tc__hypot(gp[0], gp[1]) / larger;
+        if (!(larger > 0)) *amp = tc__hypot(gp[0], gp[1]) > 0 ? INFINITY : 1;
         if (!(*amp <= PROJECT_LIMIT)) return -1;
     }
     double d[2] = {(2 * (g->r[w][0] - g->r[a][0]) - e[0]) / 18, (2 * (g->r[w][1] - g->r[a][1]) - e[1]) / 18};
@@ -138,42 +138,42 @@ static void note_project(project_stats *ps, double amp, int32_t t, int k) {
 }
 
 /* One warning for all the amplified Projects, naming the worst. */
-static void warn_projects(const tc_ct_input *x, const project_stats *ps, tc_diags *dg) {
+static void warn_projects(const tc__ct_input *ci, const project_stats *ps, tc_diags *dg) {
     if (!ps->count) return;
     char path[48];
-    tc__elem_path(x->m, ps->t, path, sizeof path);
+    tc__elem_path(ci->m, ps->t, path, sizeof path);
     tc_diags_add(dg, TC_SEV_WARNING, path,
                  "%d cross-boundary planes (salesin, literal Project) amplify the gradient more than %.0fx; the "
                  "worst, edge %d here, %.3gx (1 + a*s near 0); wedges \"corrected\" does not",
                  (int)ps->count, PROJECT_WARN, ps->edge, ps->amp);
 }
 
-static int triangle(const tc_ct_input *x, int32_t t, const geom *g, double *coef, project_stats *ps,
+static int triangle(const tc__ct_input *ci, int32_t t, const geom *g, double *coef, project_stats *ps,
                     tc_diags *dg) {
-    const struct tc_mesh *m = x->m;
+    const struct tc_mesh *m = ci->m;
     int nc = m->nc;
     for (int ch = 0; ch < nc; ch++) {
         double *o = coef + ((size_t)t * nc + ch) * TC_CT_ORDINATES;
         for (int i = 0; i < 3; i++) {
             size_t c = 3 * (size_t)t + i;
-            const double *gi = x->cg + 2 * (c * nc + ch);
-            o[i] = x->cz[c * nc + ch];
+            const double *gi = ci->planes + 2 * (c * nc + ch);
+            o[i] = ci->cz[c * nc + ch];
             for (int j = 0; j < 3; j++)
                 if (j != i)
                     o[IIJ[i][j]] = o[i] + (gi[0] * (g->r[j][0] - g->r[i][0]) + gi[1] * (g->r[j][1] - g->r[i][1])) / 3;
         }
         for (int i = 0; i < 3; i++) o[CII[i]] = mean3(o[i], o[IIJ[i][(i + 1) % 3]], o[IIJ[i][(i + 2) % 3]]);
         for (int k = 0; k < 3; k++) {
-            if (x->cross != TC_CROSS_SALESIN) {
+            if (ci->cross != TC_CROSS_SALESIN) {
                 o[CIJ[k]] = cab_linear(o, k, (k + 1) % 3, g->tau[k]);
             } else {
                 double amp;
-                int st = cab_salesin(x, t, k, ch, g, o, &o[CIJ[k]], &amp);
+                int rc = cab_salesin(ci, t, k, ch, g, o, &o[CIJ[k]], &amp);
                 note_project(ps, amp, t, k);
-                if (st == 0) continue;
+                if (rc == 0) continue;
                 char path[48];
                 tc__elem_path(m, t, path, sizeof path);
-                if (x->wedges == TC_WEDGES_LITERAL && amp > PROJECT_LIMIT)
+                if (ci->wedges == TC_WEDGES_LITERAL && amp > PROJECT_LIMIT)
                     return tc_diags_add(dg, TC_SEV_ERROR, path,
                                         "cross_boundary \"salesin\" with wedges \"literal\": Project is singular on "
                                         "edge %d (it would amplify the gradient %.3gx, limit %.0fx); use wedges "
@@ -191,17 +191,17 @@ void tc__ct_close(double *o) {
     o[CT_CCC] = mean3(o[CT_CCU], o[CT_CCV], o[CT_CCW]);
 }
 
-int tc__ct_ordinates(const tc_ct_input *x, double *coef, tc_diags *dg) {
+int tc__ct_ordinates(const tc__ct_input *ci, double *coef, tc_diags *dg) {
     project_stats ps = {0, -1, 0, 0};
-    for (int32_t t = 0; t < x->m->nt; t++) {
+    for (int32_t t = 0; t < ci->m->nt; t++) {
         geom g;
-        local_geometry(x->m, t, &g);
+        local_geometry(ci->m, t, &g);
         for (int k = 0; k < 3; k++)
-            g.tau[k] = x->cross == TC_CROSS_AFFINE ? tau_affine(x, t, k, &g)
+            g.tau[k] = ci->cross == TC_CROSS_AFFINE ? tau_affine(ci, t, k, &g)
                                                    : tau_normal(&g, k, (k + 1) % 3, (k + 2) % 3);
-        if (triangle(x, t, &g, coef, &ps, dg) != TC_OK) return TC_EINVAL;
+        if (triangle(ci, t, &g, coef, &ps, dg) != TC_OK) return TC_EINVAL;
     }
-    warn_projects(x, &ps, dg);
+    warn_projects(ci, &ps, dg);
     return TC_OK;
 }
 
@@ -242,7 +242,7 @@ void tc__ct_eval_sub(const double o[TC_CT_ORDINATES], int sub, const double lam[
     grad[1] = (D[1] - D[0]) * dl1[1] + (D[2] - D[0]) * dl2[1];
 }
 
-void tc__ct_eval(const double *o, const tc_at *at, double *value, double *grad) {
+void tc__ct_eval(const double *o, const tc__eval_point *at, double *value, double *grad) {
     const double *lam = at->lam;
     int sub = lam[0] <= lam[1] ? (lam[0] <= lam[2] ? 0 : 2) : (lam[1] <= lam[2] ? 1 : 2);
     tc__ct_eval_sub(o, sub, lam, at->dl1, at->dl2, value, grad);

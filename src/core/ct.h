@@ -26,26 +26,35 @@ void tc__ct_close(double *o);
 
 typedef struct {
     const struct tc_mesh *m;
-    const tc_wedge_set *ws;
+    const tc__wedge_set *ws;
     const double *cz;   /* [3nt][nc] corner values used */
-    const double *cg;   /* [3nt][nc][2] corner planes after WedgeNormal */
-    const double *in;   /* [3nt][nc][2] corner input planes (the paper's N_u; salesin) */
+    const double *planes; /* [3nt][nc][2] each corner's wedge plane (after WedgeNormal, and
+                           * range-limited): what the edge ordinates are built from */
+    const double *inputs; /* [3nt][nc][2] each corner's input plane, before its wedge's
+                           * were reconciled (the paper's N_u; salesin reads them) */
     tc_cross cross;
     tc_tangents tangents; /* where the corner planes came from (the range limiter trusts given ones) */
     tc_wedges wedges;   /* literal: salesin uses the paper's 3D Project */
     int by_area;        /* average "area" with corrected wedges: salesin's Avg is a plain mean */
-} tc_ct_input;
+} tc__ct_input;
 
 /* Fills coef[nt][nc][19]. Fails only for salesin+literal where Project is singular. */
-int tc__ct_ordinates(const tc_ct_input *in, double *coef, tc_diags *dg);
+int tc__ct_ordinates(const tc__ct_input *ci, double *coef, tc_diags *dg);
 
-/* ct_range.c: as tc__ct_ordinates, but first the wedge planes in cg (the
- * array in->cg points to) are limited and afterwards the cross-boundary
+/* ct_range.c: as tc__ct_ordinates, but first the wedge planes in `planes`
+ * (the array ci->planes points to) are limited and afterwards the cross-boundary
  * ordinates, so every ordinate stays inside the bound of `mode` (range.h). */
-int tc__ct_ordinates_ranged(const tc_ct_input *in, tc_range mode, double *cg, double *coef, tc_diags *dg);
+int tc__ct_ordinates_ranged(const tc__ct_input *ci, tc_range mode, double *planes, double *coef, tc_diags *dg);
+
+struct tc_recon;
+
+/* The method row's build of the cubics (clough-tocher, clough-tocher-c1;
+ * pipeline.c): the tangent-plane pipeline, then the ordinates (limited unless
+ * range is free). */
+int tc__ct_build(struct tc_recon *r, tc_diags *dg);
 
 /* Value and gradient of the piece with ordinates o at `at`. grad may be NULL. */
-void tc__ct_eval(const double *o, const tc_at *at, double *value, double *grad);
+void tc__ct_eval(const double *o, const tc__eval_point *at, double *value, double *grad);
 
 /* The ten ordinates of the subtriangle opposite corner m, as b300 b030 b003
  * b210 b120 b201 b021 b102 b012 b111 with a = m+1, b = m+2 and c the centroid. */
@@ -56,7 +65,7 @@ extern const int tc__ct_sub[3][10];
  * (float) of exactly the double tc__frame_at + tc__ct_eval give there — the
  * same operations lane for lane, four pixels at a time (ct_span.c). dout, if
  * not NULL, gets the doubles themselves (tests: a float hides most last-bit slips). */
-void tc__ct_span(const tc_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
+void tc__ct_span(const tc__eval_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
                  float *out, double *dout);
 /* Tests: 1 forces the portable (SSE2) build of tc__ct_span, 0 lets the CPU choose. */
 void tc__ct_span_force_generic(int on);

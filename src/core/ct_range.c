@@ -25,9 +25,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/ct.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/range.h"
 
 /* The directions of a corner's two edge ordinates: (p - v) / 3. */
@@ -79,28 +79,30 @@ static double tie_rhs(const tie *e, const double *o) {
  * weights la, lb (large for a dart), so it is exact only to that many tols. */
 static double tie_slack(const tie *e, double tol) { return tol * (2 + fabs(e->la) + fabs(e->lb) + e->mu); }
 
+/* What the edge limiter works with. */
 typedef struct {
-    const tc_ct_input *x;
-    const tc_bounds *b;
-    tc_range_stats *st;
-} ctx;
+    const tc__ct_input *ci;
+    const tc__bounds *b;
+    tc__range_stats *stats;
+} limiter;
 
-static int is_tied(const tc_ct_input *x, int32_t e) {
-    return x->m->nbr[e] >= 0 && tc__eff_flag(x->m, x->ws->honor_flags, e) == TC_C1;
+static int is_tied(const tc__ct_input *ci, int32_t e) {
+    return ci->m->nbr[e] >= 0 && tc__eff_flag(ci->m, ci->ws->honor_flags, e) == TC_C1;
 }
 
 /* ---- darts: scale the planes at an edge's ends while that makes C1 feasible ---- */
 
-/* Edge ordinates of t's edge k in channel ch from the planes cg: aab, abb. */
-static void edge_ordinates(const tc_ct_input *x, const double *cg, const tie *e, int ch, double *aab, double *abb) {
-    const struct tc_mesh *m = x->m;
+/* Edge ordinates of t's edge k in channel ch from the corner planes: aab, abb. */
+static void edge_ordinates(const tc__ct_input *ci, const double *planes, const tie *e, int ch, double *aab,
+                           double *abb) {
+    const struct tc_mesh *m = ci->m;
     int nc = m->nc;
     const double *a = tc__vxy(m, m->tri[e->ca]), *b = tc__vxy(m, m->tri[e->cb]);
-    const double *ga = cg + ((size_t)e->ca * nc + ch) * 2, *gb = cg + ((size_t)e->cb * nc + ch) * 2;
+    const double *ga = planes + ((size_t)e->ca * nc + ch) * 2, *gb = planes + ((size_t)e->cb * nc + ch) * 2;
     double ab[2];
     tc__sub(ab, b, a);
-    *aab = x->cz[(size_t)e->ca * nc + ch] + tc__dot(ga, ab) / 3;
-    *abb = x->cz[(size_t)e->cb * nc + ch] - tc__dot(gb, ab) / 3;
+    *aab = ci->cz[(size_t)e->ca * nc + ch] + tc__dot(ga, ab) / 3;
+    *abb = ci->cz[(size_t)e->cb * nc + ch] - tc__dot(gb, ab) / 3;
 }
 
 /* The largest lambda in [0, 1] such that scaling both end planes by lambda
@@ -117,25 +119,25 @@ static double dart_lambda(const tie *e, double za, double zb, double aab, double
 
 /* One round over the tied edges: for each infeasible one, scales the planes
  * at both ends (and their C0 groups). Returns how many planes it scaled. */
-static int dart_round(const ctx *X, double *cg) {
-    const tc_ct_input *x = X->x;
-    const struct tc_mesh *m = x->m;
+static int dart_round(const limiter *lim, double *planes) {
+    const tc__ct_input *ci = lim->ci;
+    const struct tc_mesh *m = ci->m;
     int nc = m->nc, scaled = 0;
     for (int32_t t = 0; t < m->nt; t++)
         for (int k = 0; k < 3; k++) {
             int32_t ea = 3 * t + k;
-            if (!is_tied(x, ea) || m->nbr[ea] < t) continue;
+            if (!is_tied(ci, ea) || m->nbr[ea] < t) continue;
             tie e;
             tie_geometry(m, t, k, &e);
             for (int ch = 0; ch < nc; ch++) {
                 size_t i1 = (size_t)t * nc + ch, i2 = (size_t)e.t2 * nc + ch;
-                double flo = X->b->lo[i2] + e.mu * X->b->lo[i1], fhi = X->b->hi[i2] + e.mu * X->b->hi[i1];
-                double aab, abb, za = x->cz[(size_t)e.ca * nc + ch], zb = x->cz[(size_t)e.cb * nc + ch];
-                edge_ordinates(x, cg, &e, ch, &aab, &abb);
-                double lambda = dart_lambda(&e, za, zb, aab, abb, flo, fhi, tie_slack(&e, X->b->tol[ch]));
+                double flo = lim->b->lo[i2] + e.mu * lim->b->lo[i1], fhi = lim->b->hi[i2] + e.mu * lim->b->hi[i1];
+                double aab, abb, za = ci->cz[(size_t)e.ca * nc + ch], zb = ci->cz[(size_t)e.cb * nc + ch];
+                edge_ordinates(ci, planes, &e, ch, &aab, &abb);
+                double lambda = dart_lambda(&e, za, zb, aab, abb, flo, fhi, tie_slack(&e, lim->b->tol[ch]));
                 if (lambda < 0 || lambda >= 1) continue;
-                tc__range_scale_group(x->ws, nc, x->ws->of_corner[e.ca], ch, lambda, cg);
-                tc__range_scale_group(x->ws, nc, x->ws->of_corner[e.cb], ch, lambda, cg);
+                tc__range_scale_group(ci->ws, nc, ci->ws->of_corner[e.ca], ch, lambda, planes);
+                tc__range_scale_group(ci->ws, nc, ci->ws->of_corner[e.cb], ch, lambda, planes);
                 scaled += 2;
             }
         }
@@ -145,20 +147,20 @@ static int dart_round(const ctx *X, double *cg) {
 /* ---- the cross-boundary ordinates ---- */
 
 /* Counts a move of size `move` (absolute) in tally t if it is material. */
-static void note(const ctx *X, tc_range_tally *t, int ch, double move, int32_t tri, int k) {
-    double span = X->b->span[ch];
+static void note(const limiter *lim, tc__range_tally *t, int ch, double move, int32_t tri, int k) {
+    double span = lim->b->span[ch];
     if (move > TC_RANGE_MATERIAL * span) tc__range_note(t, move / span, tri, k);
 }
 
 /* An edge that ties nothing (boundary, C-1, C0): cab is t's alone. */
-static int clamp_free(const ctx *X, int32_t t, int k, double *coef) {
-    int nc = X->x->m->nc, moved = 0;
+static int clamp_free(const limiter *lim, int32_t t, int k, double *coef) {
+    int nc = lim->ci->m->nc, moved = 0;
     for (int ch = 0; ch < nc; ch++) {
         size_t i = (size_t)t * nc + ch;
         double *cab = coef + i * TC_CT_ORDINATES + tc__ct_cij[k];
-        if (tc__outside(*cab, X->b->lo[i], X->b->hi[i], X->b->tol[ch]) == 0) continue;
-        double v = fmin(fmax(*cab, X->b->lo[i]), X->b->hi[i]);
-        note(X, &X->st->edges, ch, fabs(v - *cab), t, k);
+        if (tc__outside(*cab, lim->b->lo[i], lim->b->hi[i], lim->b->tol[ch]) == 0) continue;
+        double v = fmin(fmax(*cab, lim->b->lo[i]), lim->b->hi[i]);
+        note(lim, &lim->stats->edges, ch, fabs(v - *cab), t, k);
         *cab = v, moved = 1;
     }
     return moved;
@@ -167,22 +169,22 @@ static int clamp_free(const ctx *X, int32_t t, int k, double *coef) {
 /* Both cross-boundary ordinates of a tied edge in one channel. The tie
  * mu x1 + x2 = rhs is written kappa p + q = g with kappa = min(mu, 1/mu), so
  * q follows from p without growth of rounding. */
-static int clamp_tied_channel(const ctx *X, const tie *e, int ch, double *o, double *o2) {
-    int nc = X->x->m->nc;
+static int clamp_tied_channel(const limiter *lim, const tie *e, int ch, double *o, double *o2) {
+    int nc = lim->ci->m->nc;
     size_t i1 = (size_t)e->t * nc + ch, i2 = (size_t)e->t2 * nc + ch;
-    double *x1 = o + tc__ct_cij[e->k], *x2 = o2 + tc__ct_cij[e->k2], tol = X->b->tol[ch];
+    double *x1 = o + tc__ct_cij[e->k], *x2 = o2 + tc__ct_cij[e->k2], tol = lim->b->tol[ch];
     double rhs = tie_rhs(e, o), slack = tie_slack(e, tol);
     /* Inside and tied (to rounding): nothing to do. The literal Project near
      * its singularity ties the pair only to its own amplified rounding: that
      * pair is re-tied below, so the limited reconstruction is C1 to rounding. */
-    int inside = tc__outside(*x1, X->b->lo[i1], X->b->hi[i1], tol) == 0 &&
-                 tc__outside(*x2, X->b->lo[i2], X->b->hi[i2], tol) == 0;
+    int inside = tc__outside(*x1, lim->b->lo[i1], lim->b->hi[i1], tol) == 0 &&
+                 tc__outside(*x2, lim->b->lo[i2], lim->b->hi[i2], tol) == 0;
     if (inside && fabs(e->mu * *x1 + *x2 - rhs) <= slack) return 0;
     int swap = e->mu > 1;
     double kappa = swap ? 1 / e->mu : e->mu, g = swap ? rhs / e->mu : rhs;
     double *p = swap ? x2 : x1, *q = swap ? x1 : x2;
     size_t ip = swap ? i2 : i1, iq = swap ? i1 : i2;
-    double plo = X->b->lo[ip], phi = X->b->hi[ip], qlo = X->b->lo[iq], qhi = X->b->hi[iq];
+    double plo = lim->b->lo[ip], phi = lim->b->hi[ip], qlo = lim->b->lo[iq], qhi = lim->b->hi[iq];
     double p0 = *p, q0 = *q, pn, qn;
     /* q = g - kappa p falls as p rises: some p in [plo, phi] puts q in [qlo, qhi] iff */
     int high = g - kappa * phi > qhi + slack, low = g - kappa * plo < qlo - slack;
@@ -194,24 +196,24 @@ static int clamp_tied_channel(const ctx *X, const tie *e, int ch, double *o, dou
     } else { /* no C1 choice inside: the nearest pair, C1 given up here */
         pn = high ? phi : plo;
         qn = high ? qhi : qlo;
-        note(X, &X->st->kinks, ch, fabs(qn - (g - kappa * pn)), e->t, e->k);
+        note(lim, &lim->stats->kinks, ch, fabs(qn - (g - kappa * pn)), e->t, e->k);
     }
-    if (!inside) note(X, &X->st->edges, ch, fmax(fabs(pn - p0), fabs(qn - q0)), e->t, e->k);
+    if (!inside) note(lim, &lim->stats->edges, ch, fmax(fabs(pn - p0), fabs(qn - q0)), e->t, e->k);
     *p = pn, *q = qn;
     return 1;
 }
 
 /* Limits the cross-boundary ordinates of every edge; marks the triangles whose
  * ordinates changed in `dirty`. */
-static void limit_edges(const ctx *X, double *coef, uint8_t *dirty) {
-    const struct tc_mesh *m = X->x->m;
+static void limit_edges(const limiter *lim, double *coef, uint8_t *dirty) {
+    const struct tc_mesh *m = lim->ci->m;
     int nc = m->nc;
     size_t per = (size_t)nc * TC_CT_ORDINATES;
     for (int32_t t = 0; t < m->nt; t++)
         for (int k = 0; k < 3; k++) {
             int32_t ea = 3 * t + k;
-            if (!is_tied(X->x, ea)) {
-                dirty[t] |= clamp_free(X, t, k, coef);
+            if (!is_tied(lim->ci, ea)) {
+                dirty[t] |= clamp_free(lim, t, k, coef);
                 continue;
             }
             if (m->nbr[ea] < t) continue;
@@ -220,7 +222,7 @@ static void limit_edges(const ctx *X, double *coef, uint8_t *dirty) {
             for (int ch = 0; ch < nc; ch++) {
                 double *o = coef + (size_t)t * per + (size_t)ch * TC_CT_ORDINATES;
                 double *o2 = coef + (size_t)e.t2 * per + (size_t)ch * TC_CT_ORDINATES;
-                if (clamp_tied_channel(X, &e, ch, o, o2)) dirty[t] = dirty[e.t2] = 1;
+                if (clamp_tied_channel(lim, &e, ch, o, o2)) dirty[t] = dirty[e.t2] = 1;
             }
         }
 }
@@ -229,28 +231,28 @@ static void limit_edges(const ctx *X, double *coef, uint8_t *dirty) {
 
 enum { DART_ROUNDS = 4 };
 
-int tc__ct_ordinates_ranged(const tc_ct_input *x, tc_range mode, double *cg, double *coef, tc_diags *dg) {
-    const struct tc_mesh *m = x->m;
-    tc_bounds b;
-    tc_range_stats st;
-    tc__range_stats_init(&st);
-    int rc = tc__bounds_build(m, x->ws, x->cz, cg, x->tangents, mode, 0, &b);
+int tc__ct_ordinates_ranged(const tc__ct_input *ci, tc_range mode, double *planes, double *coef, tc_diags *dg) {
+    const struct tc_mesh *m = ci->m;
+    tc__bounds b;
+    tc__range_stats stats;
+    tc__range_stats_init(&stats);
+    int rc = tc__bounds_build(m, ci->ws, ci->cz, planes, ci->tangents, mode, 0, &b);
     uint8_t *dirty = rc == TC_OK ? tc__calloc((size_t)m->nt, 1) : NULL;
     if (rc == TC_OK && !dirty) rc = TC_ENOMEM;
-    if (rc == TC_OK) rc = tc__range_planes(m, x->ws, x->cz, &b, ct_dirs, m, cg, &st);
-    ctx X = {x, &b, &st};
+    if (rc == TC_OK) rc = tc__range_planes(m, ci->ws, ci->cz, &b, ct_dirs, m, planes, &stats);
+    limiter lim = {ci, &b, &stats};
     for (int round = 0; rc == TC_OK && round < DART_ROUNDS; round++) {
-        int n = dart_round(&X, cg);
-        st.flattened += n;
+        int n = dart_round(&lim, planes);
+        stats.flattened += n;
         if (!n) break;
     }
-    if (rc == TC_OK) rc = tc__ct_ordinates(x, coef, dg);
+    if (rc == TC_OK) rc = tc__ct_ordinates(ci, coef, dg);
     if (rc == TC_OK) {
-        limit_edges(&X, coef, dirty);
+        limit_edges(&lim, coef, dirty);
         for (int32_t t = 0; t < m->nt; t++)
             for (int ch = 0; dirty[t] && ch < m->nc; ch++)
                 tc__ct_close(coef + ((size_t)t * m->nc + ch) * TC_CT_ORDINATES);
-        tc__range_warn(m, &st, mode, dg);
+        tc__range_warn(m, &stats, mode, dg);
     }
     free(dirty);
     tc__bounds_free(&b);

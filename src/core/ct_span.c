@@ -36,7 +36,7 @@ INLINE v4d sel(v4i m, v4d a, v4d b) {
 }
 
 /* tc__frame_at's lam[q], lane by lane. */
-INLINE v4d lam_of(const tc_frame *f, int q, v4d x, double y) {
+INLINE v4d lam_of(const tc__eval_frame *f, int q, v4d x, double y) {
     const double *a = f->p[(q + 1) % 3], *b = f->p[(q + 2) % 3];
     v4d dax = x - splat(a[0]), dbx = x - splat(b[0]);
     double day = y - a[1], dby = y - b[1];
@@ -63,7 +63,7 @@ INLINE v4d cubic(const double *o, v4i is0, v4i is1, v4i r0, v4i r1, v4d A, v4d B
     return ref + (A * qa + B * qb + C * qc);
 }
 
-INLINE void span_body(const tc_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
+INLINE void span_body(const tc__eval_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
                       float *out, double *dout) {
     for (int32_t i = 0; i < n; i += 4) {
         int32_t k = n - i < 4 ? n - i : 4;
@@ -91,12 +91,12 @@ INLINE void span_body(const tc_frame *f, const double *coef, int nc, const doubl
     }
 }
 
-static void span_generic(const tc_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
+static void span_generic(const tc__eval_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
                          float *out, double *dout) {
     span_body(f, coef, nc, xs, y, n, out, dout);
 }
 
-__attribute__((target("avx2"))) static void span_avx2(const tc_frame *f, const double *coef, int nc,
+__attribute__((target("avx2"))) static void span_avx2(const tc__eval_frame *f, const double *coef, int nc,
                                                        const double *xs, double y, int32_t n, float *out,
                                                        double *dout) {
     span_body(f, coef, nc, xs, y, n, out, dout);
@@ -108,7 +108,7 @@ void tc__ct_span_force_generic(int on) {
     force_generic = on;
 }
 
-void tc__ct_span(const tc_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n, float *out,
+void tc__ct_span(const tc__eval_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n, float *out,
                  double *dout) {
     if (!force_generic && __builtin_cpu_supports("avx2")) span_avx2(f, coef, nc, xs, y, n, out, dout);
     else span_generic(f, coef, nc, xs, y, n, out, dout);

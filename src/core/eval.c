@@ -5,11 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/eval.h"
 #include "core/geom.h"
 #include "core/recon.h"
 
 void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y, double *value, double *grad) {
-    tc_at at;
+    tc__eval_point at;
     int nc = r->m->nc;
     tc__at(r->m, t, x, y, &at);
     const double *coef = r->coef + (size_t)t * nc * r->ncoef;

@@ -56,7 +56,7 @@ typedef struct {
     double lam[3];
     double dl1[2], dl2[2];
     double d[2];
-} tc_at;
+} tc__eval_point;
 
 /* What evaluating at many points of one triangle shares: its corners, each
  * edge opposite corner i (e = b - a with a = corner i+1, b = corner i+2), the
@@ -69,9 +69,9 @@ typedef struct {
     double e[3][2];
     double inv_a[3], inv_b[3];
     double dl1[2], dl2[2];
-} tc_frame;
+} tc__eval_frame;
 
-static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc_frame *f) {
+static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
     const int32_t *v = m->tri + 3 * (size_t)t;
     for (int i = 0; i < 3; i++) {
         const double *q = tc__vxy(m, v[i]);
@@ -101,7 +101,7 @@ static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc_frame *f) {
  * of 1 at corner i (a product with a reciprocal, not a quotient: one division
  * per triangle instead of three per point; the evaluators' difference form
  * makes the corners exact). The three need not sum to 1 in the last bit. */
-static inline void tc__frame_at(const tc_frame *f, double x, double y, tc_at *at) {
+static inline void tc__frame_at(const tc__eval_frame *f, double x, double y, tc__eval_point *at) {
     for (int i = 0; i < 3; i++) {
         const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
         double dax = x - a[0], day = y - a[1], dbx = x - b[0], dby = y - b[1];
@@ -115,8 +115,8 @@ static inline void tc__frame_at(const tc_frame *f, double x, double y, tc_at *at
     at->d[1] = y - f->p[0][1];
 }
 
-static inline void tc__at(const struct tc_mesh *m, int32_t t, double x, double y, tc_at *at) {
-    tc_frame f;
+static inline void tc__at(const struct tc_mesh *m, int32_t t, double x, double y, tc__eval_point *at) {
+    tc__eval_frame f;
     tc__frame(m, t, &f);
     tc__frame_at(&f, x, y, at);
 }
@@ -125,7 +125,7 @@ static inline void tc__at(const struct tc_mesh *m, int32_t t, double x, double y
  * and lam[2], as tc__frame_at computes them. */
 static inline void tc__bary(const struct tc_mesh *m, int32_t t, double x, double y,
                             double lam[3], double dl1[2], double dl2[2]) {
-    tc_at at;
+    tc__eval_point at;
     tc__at(m, t, x, y, &at);
     memcpy(lam, at.lam, sizeof at.lam);
     memcpy(dl1, at.dl1, sizeof at.dl1);

@@ -4,10 +4,11 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/hermite.h"
-#include "core/internal.h"
 #include "core/lsq.h"
+#include "core/pipeline.h"
 #include "core/recon.h"
 #include "core/wedge.h"
 
@@ -96,10 +97,10 @@ static void candidates_from(const double B[2], const double D[2], const double E
     }
 }
 
-void tc__bilinear_inverse(const double P[4][2], const double d[2], double st[2]) {
+void tc__bilinear_inverse(const double P[4][2], const double d[2], double par[2]) {
     for (int k = 0; k < 4; k++)
         if (d[0] == P[k][0] && d[1] == P[k][1]) { /* corners exactly: interpolation is exact */
-            st[0] = KS[k], st[1] = KT[k];
+            par[0] = KS[k], par[1] = KT[k];
             return;
         }
     /* Scaled so the quad has size ~1: tolerances are relative and no product overflows. */
@@ -117,10 +118,10 @@ void tc__bilinear_inverse(const double P[4][2], const double d[2], double st[2])
         c.res = polish(B, D, E, x, &c.s, &c.t);
         consider(&best, c, tol);
     }
-    st[0] = best.ok ? best.s : 0, st[1] = best.ok ? best.t : 0;
+    par[0] = best.ok ? best.s : 0, par[1] = best.ok ? best.t : 0;
     for (int i = 0; i < 2; i++) { /* rounding just outside the square lands on its side */
-        if (st[i] < 0 && st[i] >= -1e-10) st[i] = 0;
-        if (st[i] > 1 && st[i] <= 1 + 1e-10) st[i] = 1;
+        if (par[i] < 0 && par[i] >= -1e-10) par[i] = 0;
+        if (par[i] > 1 && par[i] <= 1 + 1e-10) par[i] = 1;
     }
 }
 
@@ -143,17 +144,17 @@ static void jacobian(const double P[4][2], double s, double t, double xs[2], dou
     }
 }
 
-void tc__hermite_eval(const double *o, const tc_at *at, double *value, double *grad) {
+void tc__hermite_eval(const double *o, const tc__eval_point *at, double *value, double *grad) {
     const double *g = o + TC_HERMITE_GEOM;
     const double P[4][2] = {{0, 0}, {g[0], g[1]}, {g[2], g[3]}, {g[4], g[5]}};
-    double st[2], bs[4], dbs[4], bt[4], dbt[4], v = 0, fs = 0, ft = 0;
-    tc__bilinear_inverse(P, at->d, st);
-    bernstein(st[0], bs, dbs);
-    bernstein(st[1], bt, dbt);
+    double par[2], bs[4], dbs[4], bt[4], dbt[4], v = 0, fs = 0, ft = 0;
+    tc__bilinear_inverse(P, at->d, par);
+    bernstein(par[0], bs, dbs);
+    bernstein(par[1], bt, dbt);
     /* Offsets from the nearest corner's value (the weights sum to 1, the
      * derivative weights to 0): constant data exact even subnormal, and that
      * corner's value exactly at the corner. */
-    double base = o[4 * (st[0] > 0.5 ? 3 : 0) + (st[1] > 0.5 ? 3 : 0)];
+    double base = o[4 * (par[0] > 0.5 ? 3 : 0) + (par[1] > 0.5 ? 3 : 0)];
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++) {
             double b = o[4 * i + j] - base;
@@ -167,10 +168,10 @@ void tc__hermite_eval(const double *o, const tc_at *at, double *value, double *g
      * convex quad; beyond it (extension) it may not be, so a singular one is
      * taken at the nearest point of the square instead. */
     double xs[2], xt[2];
-    jacobian(P, st[0], st[1], xs, xt);
+    jacobian(P, par[0], par[1], xs, xt);
     double det = tc__cross(xs, xt);
     if (!(fabs(det) > 1e-12 * tc__hypot(xs[0], xs[1]) * tc__hypot(xt[0], xt[1]))) {
-        jacobian(P, fmin(1, fmax(0, st[0])), fmin(1, fmax(0, st[1])), xs, xt);
+        jacobian(P, fmin(1, fmax(0, par[0])), fmin(1, fmax(0, par[1])), xs, xt);
         det = tc__cross(xs, xt);
     }
     grad[0] = (fs * xt[1] - ft * xs[1]) / det;
@@ -185,12 +186,12 @@ void tc__hermite_eval(const double *o, const tc_at *at, double *value, double *g
  * their tangent planes: min sum |(g_j - g_v) - H d_j|^2 / |d_j|^2. Rows are
  * unit directions, so scale does not matter. Exact when the planes are
  * exact for a quadratic; one H per wedge, shared by all its quad corners. */
-static void wedge_hessian(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cg,
+static void wedge_hessian(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *planes,
                           double *H) {
     double A[TC_LSQ_MAXROWS][TC_LSQ_MAXCOLS] = {{0}}, Bm[TC_LSQ_MAXROWS][TC_LSQ_MAXRHS], X[TC_LSQ_MAXCOLS][TC_LSQ_MAXRHS];
     int32_t seen[TC_LSQ_MAXROWS / 2];
     int rows = 0, nc = m->nc;
-    const double *gv = cg + (size_t)ws->corners[w->first] * 2 * nc, *pv = tc__vxy(m, w->v);
+    const double *gv = planes + (size_t)ws->corners[w->first] * 2 * nc, *pv = tc__vxy(m, w->v);
     for (int32_t i = 0; i < w->count && rows + 2 <= TC_LSQ_MAXROWS; i++) {
         int32_t c = ws->corners[w->first + i], t = c / 3;
         for (int j = 1; j <= 2 && rows + 2 <= TC_LSQ_MAXROWS; j++) {
@@ -201,7 +202,7 @@ static void wedge_hessian(const struct tc_mesh *m, const tc_wedge_set *ws, const
             double dj[2];
             tc__sub(dj, tc__vxy(m, m->tri[cj]), pv);
             double len = tc__hypot(dj[0], dj[1]), u[2] = {dj[0] / len, dj[1] / len};
-            const double *gj = cg + (size_t)cj * 2 * nc;
+            const double *gj = planes + (size_t)cj * 2 * nc;
             A[rows][0] = u[0], A[rows][1] = u[1], A[rows][2] = 0;
             A[rows + 1][0] = 0, A[rows + 1][1] = u[0], A[rows + 1][2] = u[1];
             for (int ch = 0; ch < nc; ch++) {
@@ -220,8 +221,8 @@ static void wedge_hessian(const struct tc_mesh *m, const tc_wedge_set *ws, const
  * else per-wedge estimates (twist estimate) or none (H = 0, twist zero). */
 typedef struct {
     const struct tc_mesh *m;
-    const double *cg;  /* [3nt][nc][2] corner planes */
-    tc_wedge_set ws;   /* the wedges the planes were built on */
+    const double *planes;  /* [3nt][nc][2] corner planes */
+    tc__wedge_set ws;   /* the wedges the planes were built on */
     double *H;         /* [nw][nc][3] estimated, or NULL */
     double *keep;      /* [nw][nc] the share of x_s' H x_t kept (range limiter), or NULL: all */
 } twists;
@@ -229,13 +230,13 @@ typedef struct {
 static int twists_build(const struct tc_recon *r, twists *tw) {
     const struct tc_mesh *m = r->m;
     memset(tw, 0, sizeof *tw);
-    tw->m = m, tw->cg = r->cgrad;
-    int st = tc__wedges_build(m, r->method->honour, &tw->ws);
-    if (st != TC_OK || r->opt.twist != TC_TWIST_ESTIMATE) return st;
+    tw->m = m, tw->planes = r->planes;
+    int rc = tc__wedges_build(m, r->method->honour, &tw->ws);
+    if (rc != TC_OK || r->opt.twist != TC_TWIST_ESTIMATE) return rc;
     tw->H = tc__malloc((size_t)tw->ws.nw * m->nc, 3 * sizeof *tw->H);
     if (!tw->H) return TC_ENOMEM;
     for (int32_t w = 0; w < tw->ws.nw; w++)
-        wedge_hessian(m, &tw->ws, &tw->ws.w[w], r->cgrad, tw->H + (size_t)w * m->nc * 3);
+        wedge_hessian(m, &tw->ws, &tw->ws.w[w], r->planes, tw->H + (size_t)w * m->nc * 3);
     return TC_OK;
 }
 
@@ -302,7 +303,7 @@ static void patch(const twists *tw, const quad_geom *G, int ch, double *o) {
     int nc = m->nc;
     for (int k = 0; k < 4; k++) {
         int32_t c = G->corner[k];
-        const double *g = tw->cg + ((size_t)c * nc + ch) * 2;
+        const double *g = tw->planes + ((size_t)c * nc + ch) * 2;
         double f = m->cz[(size_t)c * nc + ch], fs = tc__dot(g, G->xs[k]), ft = tc__dot(g, G->xt[k]);
         double fst = twist_of(tw, G, k, ch, g);
         int i = 3 * KS[k], j = 3 * KT[k], si = KS[k] ? -1 : 1, sj = KT[k] ? -1 : 1;
@@ -331,8 +332,8 @@ static void fill(const twists *tw, double *coef) {
 /* (g_j - g_k) . x: how much the slope along x changes from corner k's plane
  * to corner j's, in channel ch. */
 static double plane_change(const twists *tw, const quad_geom *G, int k, int j, int ch, const double x[2]) {
-    const double *gk = tw->cg + ((size_t)G->corner[k] * tw->m->nc + ch) * 2;
-    const double *gj = tw->cg + ((size_t)G->corner[j] * tw->m->nc + ch) * 2;
+    const double *gk = tw->planes + ((size_t)G->corner[k] * tw->m->nc + ch) * 2;
+    const double *gj = tw->planes + ((size_t)G->corner[j] * tw->m->nc + ch) * 2;
     return (gj[0] - gk[0]) * x[0] + (gj[1] - gk[1]) * x[1];
 }
 
@@ -420,7 +421,7 @@ static int hermite_dirs(const void *ctx, int32_t c, double d[TC_PLANE_DIRS_MAX][
  * once the planes are limited) plus si sj keep x_s'Hx_t / 9: per wedge and
  * channel, the largest keep in [0, 1] that holds every inner ordinate in, and
  * in part[] the largest second-order part (what keep < 1 moves by 1 - keep). */
-static void keep_pass(twists *tw, const tc_bounds *b, double *keep, double *largest) {
+static void keep_pass(twists *tw, const tc__bounds *b, double *keep, double *largest) {
     const struct tc_mesh *m = tw->m;
     int nc = m->nc;
     for (int32_t q = 0; q < m->nq; q++) {
@@ -429,7 +430,7 @@ static void keep_pass(twists *tw, const tc_bounds *b, double *keep, double *larg
         for (int k = 0; k < 4; k++)
             for (int ch = 0; ch < nc; ch++) {
                 int32_t c = G.corner[k];
-                const double *H = hessian_at(tw, c, ch), *g = tw->cg + ((size_t)c * nc + ch) * 2;
+                const double *H = hessian_at(tw, c, ch), *g = tw->planes + ((size_t)c * nc + ch) * 2;
                 if (!H) continue;
                 double si, sj, f = m->cz[(size_t)c * nc + ch];
                 corner_signs(k, &si, &sj);
@@ -447,15 +448,15 @@ static void keep_pass(twists *tw, const tc_bounds *b, double *keep, double *larg
 static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
     size_t n = (size_t)tw->ws.nw * m->nc;
-    tc_bounds b;
-    int st = tc__bounds_build(m, &tw->ws, m->cz, r->cgrad, r->opt.tangents, r->opt.range, 1, &b);
-    tw->keep = st == TC_OK ? tc__malloc(n, sizeof *tw->keep) : NULL;
-    double *largest = st == TC_OK ? tc__calloc(n, sizeof *largest) : NULL;
-    if (st == TC_OK && (!tw->keep || !largest)) st = TC_ENOMEM;
-    if (st == TC_OK) {
+    tc__bounds b;
+    int rc = tc__bounds_build(m, &tw->ws, m->cz, r->planes, r->opt.tangents, r->opt.range, 1, &b);
+    tw->keep = rc == TC_OK ? tc__malloc(n, sizeof *tw->keep) : NULL;
+    double *largest = rc == TC_OK ? tc__calloc(n, sizeof *largest) : NULL;
+    if (rc == TC_OK && (!tw->keep || !largest)) rc = TC_ENOMEM;
+    if (rc == TC_OK) {
         for (size_t i = 0; i < n; i++) tw->keep[i] = 1;
         keep_pass(tw, &b, tw->keep, largest);
-        tc_range_stats rs;
+        tc__range_stats rs;
         tc__range_stats_init(&rs);
         for (size_t i = 0; i < n; i++) /* reported where an inner ordinate moved materially */
             if ((1 - tw->keep[i]) * largest[i] > TC_RANGE_MATERIAL * b.span[i % m->nc])
@@ -464,7 +465,7 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
     }
     free(largest);
     tc__bounds_free(&b);
-    return st;
+    return rc;
 }
 
 /* Tangent planes as for clough-tocher (given / midpoints / estimate, one per
@@ -472,14 +473,14 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
  * depend only on its ends' values and slopes along it, which the coupled
  * planes of a C0 edge share, so C0 edges keep their kink and C-1 their jump. */
 int tc__hermite_build(struct tc_recon *r, tc_diags *dg) {
-    tc_plane_use use = {hermite_dirs, r->m, 1};
-    int st = tc__recon_planes(r, &use, dg);
-    if (st != TC_OK) return st;
+    tc__plane_use use = {hermite_dirs, r->m, 1};
+    int rc = tc__planes_build(r, &use, dg);
+    if (rc != TC_OK) return rc;
     twists tw;
-    st = twists_build(r, &tw);
-    if (st == TC_OK && tw.H) limit_twists(&tw);
-    if (st == TC_OK && r->opt.range != TC_RANGE_FREE) st = limit_twists_to_range(r, &tw, dg);
-    if (st == TC_OK) fill(&tw, r->coef);
+    rc = twists_build(r, &tw);
+    if (rc == TC_OK && tw.H) limit_twists(&tw);
+    if (rc == TC_OK && r->opt.range != TC_RANGE_FREE) rc = limit_twists_to_range(r, &tw, dg);
+    if (rc == TC_OK) fill(&tw, r->coef);
     twists_free(&tw);
-    return st;
+    return rc;
 }

@@ -3,7 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/internal.h"
+#include "core/linear.h"
+#include "core/mesh.h"
 #include "core/recon.h"
 
 const char *const tc__constant_labels[1] = {"mean"};
@@ -90,7 +91,7 @@ int tc__linear4_build(struct tc_recon *r, tc_diags *dg) {
     return TC_OK;
 }
 
-void tc__constant_eval(const double *o, const tc_at *at, double *value, double *grad) {
+void tc__constant_eval(const double *o, const tc__eval_point *at, double *value, double *grad) {
     (void)at;
     *value = o[0];
     if (grad) grad[0] = grad[1] = 0;
@@ -106,7 +107,7 @@ static int heaviest(const double lam[3]) {
     return lam[0] >= lam[1] ? (lam[0] >= lam[2] ? 0 : 2) : (lam[1] >= lam[2] ? 1 : 2);
 }
 
-void tc__linear_eval(const double *o, const tc_at *at, double *value, double *grad) {
+void tc__linear_eval(const double *o, const tc__eval_point *at, double *value, double *grad) {
     const double *lam = at->lam;
     /* About the heaviest corner: exact at corners and for constant data. */
     double ref = o[heaviest(lam)];
@@ -116,7 +117,7 @@ void tc__linear_eval(const double *o, const tc_at *at, double *value, double *gr
 
 /* The 4-split: the corner triangle of corner i where lam[i] >= 1/2, else the
  * middle triangle of the three midpoints. */
-void tc__linear4_eval(const double *o, const tc_at *at, double *value, double *grad) {
+void tc__linear4_eval(const double *o, const tc__eval_point *at, double *value, double *grad) {
     const double *lam = at->lam, *mid = o + 3; /* mid[k] on edge k = (k, k+1) */
     double D[3];
     int i = lam[0] >= 0.5 ? 0 : lam[1] >= 0.5 ? 1 : lam[2] >= 0.5 ? 2 : -1;

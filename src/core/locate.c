@@ -181,7 +181,7 @@ struct node {
     int32_t count;       /* leaf: slots [first, first + count); internal: 0 */
 };
 
-#define slot tc_slot /* declared in locate.h, shared with the rasterizer */
+#define slot tc__slot /* declared in locate.h, shared with the rasterizer */
 
 struct tc_locator {
     int32_t nnodes;
@@ -457,7 +457,7 @@ static int box_meets(const struct node *nd, const double lo[2], const double hi[
 }
 
 void tc__locator_query_box(const tc_locator *L, const double lo[2], const double hi[2],
-                           void (*fn)(void *ctx, const struct tc_slot *s), void *ctx) {
+                           void (*fn)(void *ctx, const struct tc__slot *s), void *ctx) {
     if (!L || L->nnodes == 0) return;
     int32_t stack[STACK_MAX];
     int sp = 0;

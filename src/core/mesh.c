@@ -5,9 +5,10 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh_build.h"
 
 void tc_mesh_free(tc_mesh *m) {
     if (!m) return;
@@ -18,8 +19,8 @@ void tc_mesh_free(tc_mesh *m) {
     free(m->quad);
     free(m->orient);
     free(m->cz);
-    free(m->cg);
-    free(m->cg_has);
+    free(m->given_grad);
+    free(m->given_grad_has);
     free(m->mid);
     free(m->mid_has);
     free(m->hess);
@@ -38,34 +39,34 @@ void tc_mesh_desc_init(tc_mesh_desc *d) {
 }
 
 static int check_sizes(const tc_mesh_desc *d, tc_diags *dg) {
-    int st = TC_OK;
+    int rc = TC_OK;
     if (!(d->value_tolerance >= 0 && d->value_tolerance <= 1))
-        st = tc_diags_add(dg, TC_SEV_ERROR, "value_tolerance", "value_tolerance %g must be 0 to 1", d->value_tolerance);
+        rc = tc_diags_add(dg, TC_SEV_ERROR, "value_tolerance", "value_tolerance %g must be 0 to 1", d->value_tolerance);
     if (d->nverts < 1 || !d->xy)
-        st = tc_diags_add(dg, TC_SEV_ERROR, "vertices", "the mesh has no vertices");
+        rc = tc_diags_add(dg, TC_SEV_ERROR, "vertices", "the mesh has no vertices");
     int tris = d->ntris > 0 && d->tris, quads = d->nquads > 0 && d->quads;
     if (tris && quads)
-        st = tc_diags_add(dg, TC_SEV_ERROR, "quads", "give either triangles or quads, not both");
+        rc = tc_diags_add(dg, TC_SEV_ERROR, "quads", "give either triangles or quads, not both");
     else if (!tris && !quads)
-        st = tc_diags_add(dg, TC_SEV_ERROR, "triangles", "the mesh has no triangles (nor quads)");
+        rc = tc_diags_add(dg, TC_SEV_ERROR, "triangles", "the mesh has no triangles (nor quads)");
     if (d->nchan < 1 || d->nchan > TC_MAX_CHANNELS)
-        st = tc_diags_add(dg, TC_SEV_ERROR, "values", "%d channels; 1 to %d are supported",
+        rc = tc_diags_add(dg, TC_SEV_ERROR, "values", "%d channels; 1 to %d are supported",
                           (int)d->nchan, TC_MAX_CHANNELS);
     else if (!d->values)
-        st = tc_diags_add(dg, TC_SEV_ERROR, "values", "the mesh has no values");
-    return st;
+        rc = tc_diags_add(dg, TC_SEV_ERROR, "values", "the mesh has no values");
+    return rc;
 }
 
 static int check_finite_xy(const tc_mesh_desc *d, tc_diags *dg) {
-    int st = TC_OK;
+    int rc = TC_OK;
     for (int32_t i = 0; i < d->nverts; i++)
         for (int j = 0; j < 2; j++)
             if (!isfinite(d->xy[2 * (size_t)i + j])) {
                 char path[48];
                 snprintf(path, sizeof path, "vertices[%d][%d]", (int)i, j);
-                st = tc_diags_add(dg, TC_SEV_ERROR, path, "number is not finite");
+                rc = tc_diags_add(dg, TC_SEV_ERROR, path, "number is not finite");
             }
-    return st;
+    return rc;
 }
 
 /* Index range, distinct corners and non-zero area. The area test is relative
@@ -148,18 +149,18 @@ static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
         m->ngiven = m->nt;
         return tc__quads_split(m, d, dg);
     }
-    int st = TC_OK, drop = d->degenerate == TC_DEGENERATE_DROP;
+    int rc = TC_OK, drop = d->degenerate == TC_DEGENERATE_DROP;
     int32_t nbad = 0;
     uint8_t *bad = drop ? tc__calloc((size_t)d->ntris, sizeof *bad) : NULL;
     if (drop && !bad) return TC_ENOMEM;
     for (int32_t t = 0; t < d->ntris; t++) {
         int degenerate;
-        if (check_triangle(d, t, drop, &degenerate, dg) != TC_OK) st = TC_EINVAL;
+        if (check_triangle(d, t, drop, &degenerate, dg) != TC_OK) rc = TC_EINVAL;
         if (drop && degenerate) bad[t] = 1, nbad++;
     }
-    if (st == TC_OK) st = keep_triangles(m, d, bad, nbad, dg);
+    if (rc == TC_OK) rc = keep_triangles(m, d, bad, nbad, dg);
     free(bad);
-    return st;
+    return rc;
 }
 
 int32_t tc__dropped_with_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t a, int32_t b) {
@@ -172,8 +173,8 @@ int32_t tc__dropped_with_edge(const struct tc_mesh *m, const tc_mesh_desc *d, in
 }
 
 static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
-    int st = copy_elements(m, d, dg);
-    if (st != TC_OK) return st;
+    int rc = copy_elements(m, d, dg);
+    if (rc != TC_OK) return rc;
     m->xy = tc__malloc((size_t)m->nv * 2, sizeof *m->xy);
     m->orient = tc__malloc((size_t)m->nt, sizeof *m->orient);
     if (!m->xy || !m->orient) return TC_ENOMEM;
@@ -237,8 +238,8 @@ static void warn_unused(const struct tc_mesh *m, tc_diags *dg) {
 }
 
 static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
-    int st = check_sizes(d, dg);
-    if (st != TC_OK) return st;
+    int rc = check_sizes(d, dg);
+    if (rc != TC_OK) return rc;
     if (d->ntris > INT32_MAX / 3 - 1 || d->nquads > INT32_MAX / 6 - 1 || d->nverts > INT32_MAX - 1)
         return TC_ELIMIT;
     m->nv = d->nverts;
@@ -247,11 +248,11 @@ static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     m->nc = d->nchan;
     if (d->degenerate != TC_DEGENERATE_REFUSE && d->degenerate != TC_DEGENERATE_DROP)
         return tc_diags_add(dg, TC_SEV_ERROR, "degenerate", "unknown degenerate mode %d", (int)d->degenerate);
-    if ((st = check_finite_xy(d, dg)) != TC_OK) return st;
-    if ((st = copy_geometry(m, d, dg)) != TC_OK) return st;
-    if ((st = tc__topology_build(m, dg)) != TC_OK) return st;
-    if ((st = tc__flags_apply(m, d, dg)) != TC_OK) return st;
-    if ((st = tc__samples_build(m, d, dg)) != TC_OK) return st;
+    if ((rc = check_finite_xy(d, dg)) != TC_OK) return rc;
+    if ((rc = copy_geometry(m, d, dg)) != TC_OK) return rc;
+    if ((rc = tc__topology_build(m, dg)) != TC_OK) return rc;
+    if ((rc = tc__flags_apply(m, d, dg)) != TC_OK) return rc;
+    if ((rc = tc__samples_build(m, d, dg)) != TC_OK) return rc;
     warn_unused(m, dg);
     warn_slivers(m, dg);
     return TC_OK;
@@ -261,10 +262,10 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags) {
     *out = NULL;
     struct tc_mesh *m = calloc(1, sizeof *m);
     if (!m) return TC_ENOMEM;
-    int st = build(m, desc, diags);
-    if (st != TC_OK) {
+    int rc = build(m, desc, diags);
+    if (rc != TC_OK) {
         tc_mesh_free(m);
-        return st;
+        return rc;
     }
     *out = m;
     return TC_OK;

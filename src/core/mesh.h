@@ -35,8 +35,8 @@ struct tc_mesh {
     int32_t nq;         /* quads as given, or 0 for a mesh given as triangles */
     int32_t *quad;      /* [nq][4] as given, or NULL */
 
-    double *cg;         /* [nt][3][nc][2] given tangent gradients, or NULL */
-    uint8_t *cg_has;    /* [3nt] 1 where cg holds a given gradient, or NULL */
+    double *given_grad; /* [nt][3][nc][2] tangent gradients the request gave, or NULL */
+    uint8_t *given_grad_has; /* [3nt] 1 where given_grad holds one, or NULL */
     double *mid;        /* [nt][3][nc] midpoint sample of edge k, or NULL */
     uint8_t *mid_has;   /* [3nt] 1 where mid holds a sample, or NULL */
     double *hess;       /* [nv][nc][3] given second derivatives (fxx, fxy, fyy), or NULL */
@@ -75,5 +75,34 @@ static inline int32_t tc__kept(const struct tc_mesh *m, int32_t i) { return m->k
 
 static inline const double *tc__vxy(const struct tc_mesh *m, int32_t v) { return m->xy + 2 * (size_t)v; }
 static inline int32_t tc__cv(const struct tc_mesh *m, int32_t corner) { return m->tri[corner]; }
+
+/* ---- queries on the mesh (topology.c, quads.c) ---- */
+
+/* The corner of triangle t at vertex v, or -1. */
+static inline int tc__corner_of(const struct tc_mesh *m, int32_t t, int32_t v) {
+    const int32_t *tv = m->tri + 3 * (size_t)t;
+    return tv[0] == v ? 0 : tv[1] == v ? 1 : tv[2] == v ? 2 : -1;
+}
+/* The corner id 3t+k whose edge k joins vertices a and b (either direction),
+ * or -1 if (a, b) is not a mesh edge. Prefers the lowest triangle index. */
+int32_t tc__find_edge(const struct tc_mesh *m, int32_t a, int32_t b);
+
+/* The request element a triangle came from, for messages: its JSON path
+ * ("triangles[i]" with i its given index, or "quads[q]" for a split triangle
+ * of quad q), its word ("triangle", "quad") and index (i, or q). Every error
+ * about a triangle names it through these, so the errors name what the caller
+ * sent, whatever was split or dropped. */
+void tc__elem_path(const struct tc_mesh *m, int32_t t, char *buf, size_t n);
+const char *tc__elem_word(const struct tc_mesh *m);
+static inline int32_t tc__elem_index(const struct tc_mesh *m, int32_t t) { return m->nq ? t / 2 : tc__given(m, t); }
+/* Corner k of triangle t as a corner of its element (k, or the quad corner). */
+static inline int tc__elem_corner(const struct tc_mesh *m, int32_t t, int k) {
+    return m->nq ? tc__quad_corner_of(t, k) : k;
+}
+/* Edge id e (3t+k) is the diagonal a-c of a split quad. */
+static inline int tc__is_diagonal(const struct tc_mesh *m, int32_t e) {
+    int32_t t = e / 3, k = e % 3;
+    return m->nq > 0 && k == (t % 2 == 0 ? 2 : 0);
+}
 
 #endif

@@ -4,8 +4,9 @@
 
 #include "core/ct.h"
 #include "core/hermite.h"
+#include "core/linear.h"
 #include "core/method.h"
-#include "core/recon.h"
+#include "core/powell_sabin.h"
 
 /* What the tangent-plane pipeline reads (tangents, and the wedge rules and
  * averaging: wedges "literal" also averages unit normals) and the range

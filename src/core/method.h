@@ -10,11 +10,11 @@ struct tc_recon;
 
 /* Value (and gradient if grad != NULL) of one channel of one triangle's piece
  * from its coefficients, at the point described by `at`. */
-typedef void (*tc_piece_eval)(const double *coef, const tc_at *at, double *value, double *grad);
+typedef void (*tc__piece_eval)(const double *coef, const tc__eval_point *at, double *value, double *grad);
 
 /* Fills r->coef ([nt][nc][ncoef], allocated by tc_recon_new) and, for a method
- * with tangent planes, r->cgrad. r->method is this row. */
-typedef int (*tc_method_build)(struct tc_recon *r, tc_diags *dg);
+ * with tangent planes, r->planes. r->method is this row. */
+typedef int (*tc__method_build)(struct tc_recon *r, tc_diags *dg);
 
 /* Invariants: methods[m] describes tc_method m; labels has ncoef entries;
  * `smooth` is TC_C1, TC_C0 or TC_CM1 and `honour` a TC_HONOR_* of wedge.h. */
@@ -22,8 +22,8 @@ typedef struct {
     const char *name;           /* as in requests ("clough-tocher") */
     int ncoef;                  /* coefficients per triangle and channel */
     const char *const *labels;  /* [ncoef], as in /v1/ordinates */
-    tc_method_build build;
-    tc_piece_eval eval;
+    tc__method_build build;
+    tc__piece_eval eval;
     int honour;                 /* which interior flags cut it (its wedges, its jumps) */
     int8_t smooth;              /* the most continuity it has across an interior edge it
                                  * does not cut: TC_C1, TC_C0 (linear) or TC_CM1 (constant) */

@@ -43,9 +43,12 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
+#include "core/pipeline.h"
+#include "core/powell_sabin.h"
 #include "core/recon.h"
 #include "core/wedge.h"
 
@@ -195,7 +198,7 @@ static void triangle(const struct tc_recon *r, int32_t t, const ps_geom *g) {
         for (int i = 0; i < 3; i++) {
             size_t c = 3 * (size_t)t + i;
             z[i] = m->cz[c * nc + ch];
-            gr[i] = r->cgrad + 2 * (c * nc + ch);
+            gr[i] = r->planes + 2 * (c * nc + ch);
         }
         ordinates(g, z, gr, r->coef + ((size_t)t * nc + ch) * TC_PS_COEFS);
     }
@@ -254,7 +257,7 @@ void tc__ps_eval_piece(const double *o, int piece, const double lam[3], const do
  * lam_i / zeta_i (its Z weight is that ratio and the others stay >= 0); in
  * it, the side of the line Z R_k. Corners land on their own piece with
  * barycentrics exactly (1, 0, 0), so the value there is the corner value. */
-void tc__ps_eval(const double *o, const tc_at *at, double *value, double *grad) {
+void tc__ps_eval(const double *o, const tc__eval_point *at, double *value, double *grad) {
     const double *lam = at->lam, *zeta = o + PS_ZETA;
     int w = 0;
     for (int i = 1; i < 3; i++)
@@ -293,12 +296,12 @@ int tc__ps_build(struct tc_recon *r, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
     ps_geom *geo = tc__malloc((size_t)m->nt, sizeof *geo);
     if (!geo) return TC_ENOMEM;
-    int st = TC_OK;
-    for (int32_t t = 0; t < m->nt && st == TC_OK; t++)
-        if (geometry(m, r->method->honour, t, &geo[t], dg) != TC_OK) st = TC_EINVAL;
-    tc_plane_use use = {ps_dirs, geo, 0};
-    if (st == TC_OK) st = tc__recon_planes(r, &use, dg);
-    for (int32_t t = 0; t < m->nt && st == TC_OK; t++) triangle(r, t, &geo[t]);
+    int rc = TC_OK;
+    for (int32_t t = 0; t < m->nt && rc == TC_OK; t++)
+        if (geometry(m, r->method->honour, t, &geo[t], dg) != TC_OK) rc = TC_EINVAL;
+    tc__plane_use use = {ps_dirs, geo, 0};
+    if (rc == TC_OK) rc = tc__planes_build(r, &use, dg);
+    for (int32_t t = 0; t < m->nt && rc == TC_OK; t++) triangle(r, t, &geo[t]);
     free(geo);
-    return st;
+    return rc;
 }

@@ -117,13 +117,13 @@ static int solve_scaled(int n, const double *H, const double *f, int neq, const 
     if (!M) return -1;
     double p[TC_QP_MAXN], mu[TC_QP_MAXEQ + TC_QP_MAXN], scale = 0;
     for (int i = 0; i < n; i++) scale = fmax(scale, fabs(f[i]) / H[i * n + i]);
-    int st = 1;
+    int rc = 1;
     for (int it = 0; it < 8 * (m + n); it++) {
         if (kkt_step(&q, y, M, p, mu)) {
             /* The row added last depends on the working rows up to rounding
              * (nearly parallel to them): take it out and let it not block. */
             if (q.last < 0 || q.work[q.nwork - 1] != q.last) {
-                st = -1;
+                rc = -1;
                 break;
             }
             q.banned[q.last] = 1;
@@ -136,7 +136,7 @@ static int solve_scaled(int n, const double *H, const double *f, int neq, const 
         for (int j = 0; j < n; j++) pn = fmax(pn, fabs(p[j])), yn = fmax(yn, fabs(y[j]));
         if (q.neq + q.nwork >= n || pn <= 1e-11 * (scale + yn)) {
             if (!drop_negative(&q, mu)) {
-                st = 0;
+                rc = 0;
                 break;
             }
             continue;
@@ -144,7 +144,7 @@ static int solve_scaled(int n, const double *H, const double *f, int neq, const 
         advance(&q, y, p);
     }
     free(M);
-    return st;
+    return rc;
 }
 
 /* Unit scaling: variables by 1/sqrt(H_ii), so H has a unit diagonal, and every
@@ -180,8 +180,8 @@ int tc__qp_solve(int n, const double *H, const double *f, int neq, const double 
         for (int j = 0; j < n; j++) S->C[i * n + j] = C[i * n + j] * S->d[j];
         S->b[i] = b[i] / unit_row(S->C + i * n, n);
     }
-    int st = solve_scaled(n, S->H, S->f, neq, S->Aeq, m, S->C, S->b, y);
+    int rc = solve_scaled(n, S->H, S->f, neq, S->Aeq, m, S->C, S->b, y);
     for (int i = 0; i < n; i++) y[i] *= S->d[i];
     free(S);
-    return st;
+    return rc;
 }

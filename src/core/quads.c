@@ -4,8 +4,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh_build.h"
 
 void tc__elem_path(const struct tc_mesh *m, int32_t t, char *buf, size_t n) {
     if (m->nq) snprintf(buf, n, "quads[%d]", (int)(t / 2));
@@ -113,7 +114,7 @@ static int check_repeats(const tc_mesh_desc *d, tc_diags *dg) {
         keys[q].q = q;
     }
     qsort(keys, (size_t)d->nquads, sizeof *keys, by_key);
-    int st = TC_OK;
+    int rc = TC_OK;
     for (int32_t i = 1, first = 0; i < d->nquads; i++) {
         if (memcmp(keys[i].key, keys[i - 1].key, sizeof keys[i].key) != 0) {
             first = i;
@@ -121,18 +122,18 @@ static int check_repeats(const tc_mesh_desc *d, tc_diags *dg) {
         }
         char path[48];
         snprintf(path, sizeof path, "quads[%d]", (int)keys[i].q);
-        st = tc_diags_add(dg, TC_SEV_ERROR, path, "repeats quads[%d] (same four vertices)", (int)keys[first].q);
+        rc = tc_diags_add(dg, TC_SEV_ERROR, path, "repeats quads[%d] (same four vertices)", (int)keys[first].q);
     }
     free(keys);
-    return st;
+    return rc;
 }
 
 int tc__quads_split(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
-    int st = TC_OK;
+    int rc = TC_OK;
     for (int32_t q = 0; q < d->nquads; q++)
-        if (check_indices(d, q, dg) != TC_OK || check_shape(d, q, dg) != TC_OK) st = TC_EINVAL;
-    if (st == TC_OK) st = check_repeats(d, dg);
-    if (st != TC_OK) return st;
+        if (check_indices(d, q, dg) != TC_OK || check_shape(d, q, dg) != TC_OK) rc = TC_EINVAL;
+    if (rc == TC_OK) rc = check_repeats(d, dg);
+    if (rc != TC_OK) return rc;
     m->quad = tc__malloc((size_t)m->nq * 4, sizeof *m->quad);
     m->tri = tc__malloc((size_t)m->nt * 3, sizeof *m->tri);
     if (!m->quad || !m->tri) return TC_ENOMEM;

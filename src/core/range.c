@@ -6,16 +6,16 @@
 #include <string.h>
 
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/qp.h"
-#include "core/recon.h"
 #include "core/range.h"
+#include "core/recon.h"
 
 /* ---- statistics and warnings ---- */
 
-void tc__range_stats_init(tc_range_stats *s) { memset(s, 0, sizeof *s); }
+void tc__range_stats_init(tc__range_stats *s) { memset(s, 0, sizeof *s); }
 
-void tc__range_note(tc_range_tally *t, double size, int32_t where, int edge) {
+void tc__range_note(tc__range_tally *t, double size, int32_t where, int edge) {
     t->count++;
     int full = t->named == TC_RANGE_NAMED, i = full ? TC_RANGE_NAMED - 1 : t->named++;
     if (full && !(size > t->size[i])) return;
@@ -27,7 +27,7 @@ void tc__range_note(tc_range_tally *t, double size, int32_t where, int edge) {
 
 /* One warning per named place, each with the totals: a caller can find the
  * elements by path, a reader sees how much happened. */
-void tc__range_warn(const struct tc_mesh *m, const tc_range_stats *s, tc_range mode, tc_diags *dg) {
+void tc__range_warn(const struct tc_mesh *m, const tc__range_stats *s, tc_range mode, tc_diags *dg) {
     const char *name = mode == TC_RANGE_POSITIVE ? "positive" : "local";
     char path[48];
     for (int i = 0; i < s->planes.named; i++) {
@@ -121,7 +121,7 @@ void tc__range_report_free(const struct tc_recon *r, int nord, tc_diags *dg) {
 enum { GROUP_MAX = TC_QP_MAXN / 2 };
 
 /* The group of wedge w: every wedge reachable through `across` links. */
-static int group_of(const tc_wedge_set *ws, int32_t w, int32_t *g, int cap) {
+static int group_of(const tc__wedge_set *ws, int32_t w, int32_t *g, int cap) {
     int n = 0;
     g[n++] = w;
     for (int i = 0; i < n; i++)
@@ -136,26 +136,26 @@ static int group_of(const tc_wedge_set *ws, int32_t w, int32_t *g, int cap) {
     return n;
 }
 
-static double *plane_at(double *cg, const tc_wedge_set *ws, int nc, int32_t w, int ch) {
-    return cg + ((size_t)ws->corners[ws->w[w].first] * nc + ch) * 2;
+static double *plane_at(double *planes, const tc__wedge_set *ws, int nc, int32_t w, int ch) {
+    return planes + ((size_t)ws->corners[ws->w[w].first] * nc + ch) * 2;
 }
 
 /* Writes plane g to every corner of wedge w. */
-static void set_plane(double *cg, const tc_wedge_set *ws, int nc, int32_t w, int ch, const double g[2]) {
-    const tc_wedge *wd = &ws->w[w];
+static void set_plane(double *planes, const tc__wedge_set *ws, int nc, int32_t w, int ch, const double g[2]) {
+    const tc__wedge *wd = &ws->w[w];
     for (int32_t i = 0; i < wd->count; i++) {
-        double *p = cg + ((size_t)ws->corners[wd->first + i] * nc + ch) * 2;
+        double *p = planes + ((size_t)ws->corners[wd->first + i] * nc + ch) * 2;
         p[0] = g[0], p[1] = g[1];
     }
 }
 
-void tc__range_scale_group(const tc_wedge_set *ws, int nc, int32_t w, int ch, double lambda, double *cg) {
+void tc__range_scale_group(const tc__wedge_set *ws, int nc, int32_t w, int ch, double lambda, double *planes) {
     int32_t g[GROUP_MAX * 4];
     int n = group_of(ws, w, g, GROUP_MAX * 4);
     if (n < 0) n = 1; /* too large to walk here: impossible, groups live at one vertex */
     for (int i = 0; i < n; i++) {
-        double *p = plane_at(cg, ws, nc, g[i], ch), s[2] = {p[0] * lambda, p[1] * lambda};
-        set_plane(cg, ws, nc, g[i], ch, s);
+        double *p = plane_at(planes, ws, nc, g[i], ch), s[2] = {p[0] * lambda, p[1] * lambda};
+        set_plane(planes, ws, nc, g[i], ch, s);
     }
 }
 
@@ -170,10 +170,10 @@ typedef struct {
 
 typedef struct {
     const struct tc_mesh *m;
-    const tc_wedge_set *ws;
+    const tc__wedge_set *ws;
     const double *cz;
-    const tc_bounds *b;
-    tc_plane_dirs_fn dirs;
+    const tc__bounds *b;
+    tc__plane_dirs_fn dirs;
     const void *ctx;
     int ch;
     int32_t w[GROUP_MAX];
@@ -214,7 +214,7 @@ static int gather_rows(group *G) {
     G->nrows = 0;
     memset(G->Q, 0, sizeof G->Q);
     for (int s = 0; s < G->k; s++) {
-        const tc_wedge *wd = &G->ws->w[G->w[s]];
+        const tc__wedge *wd = &G->ws->w[G->w[s]];
         for (int32_t i = 0; i < wd->count; i++) {
             int32_t c = G->ws->corners[wd->first + i];
             size_t ti = (size_t)(c / 3) * nc + G->ch;
@@ -284,7 +284,7 @@ typedef struct {
 static int links_of(const group *G, link *L) {
     int n = 0;
     for (int s = 0; s < G->k; s++) {
-        const tc_wedge *wd = &G->ws->w[G->w[s]];
+        const tc__wedge *wd = &G->ws->w[G->w[s]];
         for (int side = 0; side < 2; side++) {
             int o = -1;
             for (int j = 0; j < G->k; j++)
@@ -396,11 +396,11 @@ typedef struct {
 } limited;
 
 /* Limits one group in one channel. */
-static limited limit_group(group *G, double *cg) {
+static limited limit_group(group *G, double *planes) {
     int nc = G->m->nc;
     double y0[TC_QP_MAXN], y[TC_QP_MAXN], Q[GROUP_MAX][3], tol = G->b->tol[G->ch];
     for (int s = 0; s < G->k; s++) {
-        const double *p = plane_at(cg, G->ws, nc, G->w[s], G->ch);
+        const double *p = plane_at(planes, G->ws, nc, G->w[s], G->ch);
         y0[2 * s] = p[0], y0[2 * s + 1] = p[1];
     }
     if (violation(G, y0, tol) == 0) return (limited){1, 0};
@@ -425,15 +425,15 @@ static limited limit_group(group *G, double *cg) {
         ds = qnorm2(Q, G->k, d);
         if (ds < dy) memcpy(y, scaled, sizeof scaled);
     }
-    for (int s = 0; s < G->k; s++) set_plane(cg, G->ws, nc, G->w[s], G->ch, y + 2 * s);
+    for (int s = 0; s < G->k; s++) set_plane(planes, G->ws, nc, G->w[s], G->ch, y + 2 * s);
     double n0 = qnorm2(Q, G->k, y0);
     return (limited){n0 > 0 ? sqrt(qnorm2(Q, G->k, y) / n0) : 1, largest_move(G, y0, y)};
 }
 
 /* A group too large for the QP (more C0 edges at a vertex than GROUP_MAX
  * wedges): every plane in it scaled by the smallest factor any needs. */
-static limited shrink_group(group *G, int32_t w, double *cg) {
-    const tc_wedge_set *ws = G->ws;
+static limited shrink_group(group *G, int32_t w, double *planes) {
+    const tc__wedge_set *ws = G->ws;
     int32_t w0 = w, w1 = w;
     while (w0 > 0 && ws->w[w0 - 1].v == ws->w[w].v) w0--;
     while (w1 < ws->nw && ws->w[w1].v == ws->w[w].v) w1++;
@@ -443,10 +443,10 @@ static limited shrink_group(group *G, int32_t w, double *cg) {
     for (int i = 0; i < n; i++) {
         G->k = 1, G->w[0] = all[i];
         if (gather_rows(G)) lambda = 0;
-        else lambda = fmin(lambda, scale_inside(G, plane_at(cg, ws, G->m->nc, all[i], G->ch), G->b->tol[G->ch]));
+        else lambda = fmin(lambda, scale_inside(G, plane_at(planes, ws, G->m->nc, all[i], G->ch), G->b->tol[G->ch]));
     }
     for (int i = 0; i < n; i++) {
-        double *p = plane_at(cg, ws, G->m->nc, all[i], G->ch);
+        double *p = plane_at(planes, ws, G->m->nc, all[i], G->ch);
         G->k = 1, G->w[0] = all[i];
         if (gather_rows(G) == 0) {
             double y0[2] = {p[0], p[1]}, y[2] = {lambda * p[0], lambda * p[1]};
@@ -454,12 +454,12 @@ static limited shrink_group(group *G, int32_t w, double *cg) {
         }
     }
     free(all);
-    tc__range_scale_group(ws, G->m->nc, w, G->ch, lambda, cg);
+    tc__range_scale_group(ws, G->m->nc, w, G->ch, lambda, planes);
     return (limited){lambda, move};
 }
 
-int tc__range_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const tc_bounds *b,
-                     tc_plane_dirs_fn dirs, const void *ctx, double *cg, tc_range_stats *st) {
+int tc__range_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const tc__bounds *b,
+                     tc__plane_dirs_fn dirs, const void *ctx, double *planes, tc__range_stats *stats) {
     enum { ROWS_MAX = TC_QP_MAXM };
     row *rows = malloc(ROWS_MAX * sizeof *rows);
     double *work = malloc((TC_QP_MAXM * TC_QP_MAXN + TC_QP_MAXEQ * TC_QP_MAXN + TC_QP_MAXM) * sizeof *work);
@@ -481,8 +481,9 @@ int tc__range_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
             G.ch = ch;
             G.k = k > 0 ? k : 1;
             memcpy(G.w, members, (size_t)G.k * sizeof *members);
-            limited lim = k > 0 && gather_rows(&G) == 0 ? limit_group(&G, cg) : shrink_group(&G, w, cg);
-            if (lim.move > TC_RANGE_MATERIAL * b->span[ch]) tc__range_note(&st->planes, 1 - lim.factor, ws->w[w].v, -1);
+            limited lim = k > 0 && gather_rows(&G) == 0 ? limit_group(&G, planes) : shrink_group(&G, w, planes);
+            if (lim.move > TC_RANGE_MATERIAL * b->span[ch])
+                tc__range_note(&stats->planes, 1 - lim.factor, ws->w[w].v, -1);
         }
     }
     free(rows);

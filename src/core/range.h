@@ -51,15 +51,15 @@ typedef struct {
     double *lo, *hi;                 /* [nt][nc]; -INFINITY / INFINITY where unbounded */
     double tol[TC_MAX_CHANNELS];     /* TC_RANGE_SLACK x the channel's largest |value| */
     double span[TC_MAX_CHANNELS];    /* the channel's data range (max - min of its corner values) */
-} tc_bounds;
+} tc__bounds;
 
 /* The bounds (as above) from the corner values cz [3nt][nc] the reconstruction
- * interpolates and its corner planes cg [3nt][nc][2] before any limiting, ws
+ * interpolates and its corner planes [3nt][nc][2] before any limiting, ws
  * the wedges they were built on, `tangents` where they came from. per_quad:
  * both triangles of a split quad get their quad's bound (hermite's patch). */
-int tc__bounds_build(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const double *cg,
-                     tc_tangents tangents, tc_range mode, int per_quad, tc_bounds *b);
-void tc__bounds_free(tc_bounds *b);
+int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
+                     tc_tangents tangents, tc_range mode, int per_quad, tc__bounds *b);
+void tc__bounds_free(tc__bounds *b);
 
 /* How far ordinate z lies outside [lo, hi] (0 inside, or within tol). */
 static inline double tc__outside(double z, double lo, double hi, double tol) {
@@ -74,23 +74,23 @@ typedef struct {
     int32_t count;                  /* how many (per element and channel) */
     int32_t where[TC_RANGE_NAMED];  /* vertex (planes) or triangle (edges, kinks), most first */
     int edge[TC_RANGE_NAMED];       /* the triangle's edge (edges, kinks) */
-    double size[TC_RANGE_NAMED];    /* the measure (see tc_range_stats), worst first */
+    double size[TC_RANGE_NAMED];    /* the measure (see tc__range_stats), worst first */
     int named;
-} tc_range_tally;
+} tc__range_tally;
 
 typedef struct {
-    tc_range_tally planes; /* size: 1 - |g limited| / |g| (in the metric of its ordinates) */
-    tc_range_tally edges;  /* size: how far the cross-boundary ordinate moved / the channel's range */
-    tc_range_tally kinks;  /* size: the C1 mismatch left / the channel's range */
-    tc_range_tally twists; /* hermite: size: 1 - the factor the cross derivative's second-order part kept */
+    tc__range_tally planes; /* size: 1 - |g limited| / |g| (in the metric of its ordinates) */
+    tc__range_tally edges;  /* size: how far the cross-boundary ordinate moved / the channel's range */
+    tc__range_tally kinks;  /* size: the C1 mismatch left / the channel's range */
+    tc__range_tally twists; /* hermite: size: 1 - the factor the cross derivative's second-order part kept */
     int32_t flattened;     /* wedge planes scaled down further so a C1 edge could stay in range */
-} tc_range_stats;
+} tc__range_stats;
 
 /* Counts one event and keeps it if it is among the TC_RANGE_NAMED largest. */
-void tc__range_note(tc_range_tally *t, double size, int32_t where, int edge);
-void tc__range_stats_init(tc_range_stats *s);
+void tc__range_note(tc__range_tally *t, double size, int32_t where, int edge);
+void tc__range_stats_init(tc__range_stats *s);
 /* The warnings that say what the limiter changed (none if nothing). */
-void tc__range_warn(const struct tc_mesh *m, const tc_range_stats *s, tc_range mode, tc_diags *dg);
+void tc__range_warn(const struct tc_mesh *m, const tc__range_stats *s, tc_range mode, tc_diags *dg);
 
 /* Range "free": one warning when the reconstruction leaves its data's range
  * (per channel, [min, max] of all corner values), saying by how much: at
@@ -102,17 +102,17 @@ void tc__range_report_free(const struct tc_recon *r, int nord, tc_diags *dg);
  * ordinate z_corner + g . d[i] for i < the count returned (at most
  * TC_PLANE_DIRS_MAX), each of which must stay inside the corner's triangle's bound. */
 enum { TC_PLANE_DIRS_MAX = 3 };
-typedef int (*tc_plane_dirs_fn)(const void *ctx, int32_t corner, double d[TC_PLANE_DIRS_MAX][2]);
+typedef int (*tc__plane_dirs_fn)(const void *ctx, int32_t corner, double d[TC_PLANE_DIRS_MAX][2]);
 
-/* Projects every wedge plane in cg [3nt][nc][2] (equal on the corners of a
+/* Projects every wedge plane in planes [3nt][nc][2] (equal on the corners of a
  * wedge) onto its admissible set, in the metric of the ordinates it moves;
  * wedges coupled across C0 sides are projected together, keeping their common
  * slope along each C0 side. cz [3nt][nc] are the corner values. */
-int tc__range_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, const tc_bounds *b,
-                     tc_plane_dirs_fn dirs, const void *ctx, double *cg, tc_range_stats *st);
+int tc__range_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const tc__bounds *b,
+                     tc__plane_dirs_fn dirs, const void *ctx, double *planes, tc__range_stats *stats);
 
 /* Scales the plane of wedge w, and of every wedge coupled to it across C0
- * sides, by lambda in [0, 1] (channel ch) in cg: admissible planes stay admissible. */
-void tc__range_scale_group(const tc_wedge_set *ws, int nc, int32_t w, int ch, double lambda, double *cg);
+ * sides, by lambda in [0, 1] (channel ch) in planes: admissible planes stay admissible. */
+void tc__range_scale_group(const tc__wedge_set *ws, int nc, int32_t w, int ch, double lambda, double *planes);
 
 #endif

@@ -6,12 +6,12 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "core/alloc.h"
 #include "core/ct.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/locate.h"
+#include "core/mesh.h"
 #include "core/recon.h"
 
 #define BAND_ROWS 16 /* rows per unit of work: small enough to balance threads */
@@ -25,7 +25,7 @@ typedef struct {
     const tc_recon *r;
     const tc_locator *L;
     const tc_viewport *vp;
-    const tc_render_options *o;
+    const tc_render_options *ropt;
     float *values;
     int32_t *owner;
     const double *xs; /* [width] pixel-centre x of each column, as tc_viewport_pixel_center gives it */
@@ -40,12 +40,6 @@ typedef struct {
     int32_t j0, j1;
 } band;
 
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 /* Pixel index range [lo, hi] whose centres may fall in [a, b] along an axis of
  * n pixels starting at origin with the given step (widened by one pixel on each
  * side: the exact test below decides, this only has to be a superset). */
@@ -59,19 +53,19 @@ static void pixel_range(double a, double b, double origin, double step, int32_t 
 /* Owner encoding while a band is rasterized: -1 none, t >= 0 strict owner,
  * -2 - t a closed-only candidate (points on the outer boundary; the lowest
  * index wins, as in tc_locate). Returns the test's result. */
-static int claim(const band *bd, const struct tc_slot *s, int32_t i, int32_t j, double y) {
+static int claim(const band *bd, const struct tc__slot *s, int32_t i, int32_t j, double y) {
     const tc_viewport *vp = bd->jb->vp;
     int hit = tc__slot_test(s, bd->jb->xs[i], y);
     if (hit == TC_SLOT_OUT) return hit;
-    int32_t *o = &bd->jb->owner[(size_t)j * vp->width + i];
-    if (hit == TC_SLOT_OWN) *o = s->t;
-    else if (*o == -1 || (*o <= -2 && -2 - *o > s->t)) *o = -2 - s->t;
+    int32_t *slot = &bd->jb->owner[(size_t)j * vp->width + i];
+    if (hit == TC_SLOT_OWN) *slot = s->t;
+    else if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
     return hit;
 }
 
 /* Where row y crosses the triangle, approximately: [*xl, *xr], or 0 if it
  * misses it. Only a starting guess; claim() decides every pixel it touches. */
-static int row_hull(const struct tc_slot *s, double y, double *xl, double *xr) {
+static int row_hull(const struct tc__slot *s, double y, double *xl, double *xr) {
     int any = 0;
     *xl = INFINITY, *xr = -INFINITY;
     for (int k = 0; k < 3; k++) {
@@ -93,7 +87,7 @@ static int row_hull(const struct tc_slot *s, double y, double *xl, double *xr) {
  * both convex, so the contained pixels form one run: exact tests at its two
  * ends, outward until the first pixel out, and — when both ends are strictly
  * owned — everything between is strictly owned without a test. */
-static void cover_row(const band *bd, const struct tc_slot *s, int32_t j, int32_t i0, int32_t i1) {
+static void cover_row(const band *bd, const struct tc__slot *s, int32_t j, int32_t i0, int32_t i1) {
     const tc_viewport *vp = bd->jb->vp;
     double x, y, xl, xr, step = (vp->x1 - vp->x0) / vp->width;
     tc_viewport_pixel_center(vp, 0, j, &x, &y);
@@ -117,14 +111,14 @@ static void cover_row(const band *bd, const struct tc_slot *s, int32_t j, int32_
     if (b == a) hb = ha;
     for (int32_t i = a - 1; i >= i0 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i--) {}
     for (int32_t i = b + 1; i <= i1 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i++) {}
-    int32_t *o = bd->jb->owner + (size_t)j * vp->width;
+    int32_t *row = bd->jb->owner + (size_t)j * vp->width;
     for (int32_t i = a + 1; i < b; i++) {
-        if (ha == TC_SLOT_OWN && hb == TC_SLOT_OWN) o[i] = s->t;
+        if (ha == TC_SLOT_OWN && hb == TC_SLOT_OWN) row[i] = s->t;
         else claim(bd, s, i, j, y);
     }
 }
 
-static void cover(void *ctx, const struct tc_slot *s) {
+static void cover(void *ctx, const struct tc__slot *s) {
     const band *bd = ctx;
     const tc_viewport *vp = bd->jb->vp;
     double xmin = fmin(s->x[0], fmin(s->x[1], s->x[2])), xmax = fmax(s->x[0], fmax(s->x[1], s->x[2]));
@@ -150,7 +144,8 @@ static int32_t settle(int32_t *owner, size_t p) {
  * tc_eval_triangle evaluates it (tc__frame, tc__frame_at, the method's eval).
  * The cubic methods go through tc__ct_span, which does that same arithmetic
  * four pixels at a time. */
-static void shade_run(const job *jb, const tc_frame *f, int32_t t, const double *xs, double y, int32_t n, float *out) {
+static void shade_run(const job *jb, const tc__eval_frame *f, int32_t t, const double *xs, double y, int32_t n,
+                      float *out) {
     const tc_recon *r = jb->r;
     int nc = r->m->nc;
     const double *coef = r->coef + (size_t)t * nc * r->ncoef;
@@ -163,7 +158,7 @@ static void shade_run(const job *jb, const tc_frame *f, int32_t t, const double 
     }
     double v[TC_MAX_CHANNELS];
     for (int32_t i = 0; i < n; i++) {
-        tc_at at;
+        tc__eval_point at;
         tc__frame_at(f, xs[i], y, &at);
         for (int ch = 0; ch < nc; ch++) r->eval(coef + (size_t)ch * r->ncoef, &at, &v[ch], NULL);
         for (int ch = 0; ch < nc; ch++) out[(size_t)i * nc + ch] = (float)tc__floored(r, ch, v[ch]);
@@ -175,7 +170,7 @@ static void shade_band(const band *bd) {
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
     int nc = jb->r->m->nc;
-    tc_frame f;
+    tc__eval_frame f;
     memset(&f, 0, sizeof f); /* set before use (cur == -1); this quiets -Wmaybe-uninitialized */
     int32_t cur = -1;
     for (int32_t j = bd->j0; j < bd->j1; j++) {
@@ -189,7 +184,7 @@ static void shade_band(const band *bd) {
             if (t < 0) {
                 for (int32_t p = 0; p < e - i; p++)
                     for (int ch = 0; ch < nc; ch++)
-                        out[(size_t)p * nc + ch] = jb->o->background ? (float)jb->o->background[ch] : 0.0f;
+                        out[(size_t)p * nc + ch] = jb->ropt->background ? (float)jb->ropt->background[ch] : 0.0f;
             } else {
                 if (t != cur) tc__frame(jb->r->m, t, &f), cur = t;
                 shade_run(jb, &f, t, jb->xs + i, y, e - i, out);
@@ -217,7 +212,7 @@ static void *worker(void *arg) {
     for (;;) {
         int32_t b = atomic_fetch_add(&jb->next_band, 1);
         if (b >= jb->nbands || atomic_load(&jb->timed_out)) return NULL;
-        if (jb->o->deadline_ms > 0 && now_ms() > jb->o->deadline_ms) {
+        if (jb->ropt->deadline_ms > 0 && tc_now_ms() > jb->ropt->deadline_ms) {
             atomic_store(&jb->timed_out, 1);
             return NULL;
         }
@@ -242,7 +237,7 @@ static void run_threads(job *jb, int n) {
     for (int k = 0; k < started; k++) pthread_join(tid[k], NULL);
 }
 
-int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, const tc_render_options *o,
+int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, const tc_render_options *ropt,
               float *values, int32_t *owner) {
     static const tc_render_options defaults = {NULL, 1, 0};
     if (!valid_viewport(vp)) return TC_EINVAL;
@@ -257,8 +252,8 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
         double unused;
         tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
     }
-    job jb = {r, L, vp, o ? o : &defaults, values, own, xs, (vp->height + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
-    run_threads(&jb, jb.o->threads > 1 ? jb.o->threads : 1);
+    job jb = {r, L, vp, ropt ? ropt : &defaults, values, own, xs, (vp->height + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
+    run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     if (!owner) free(own);
     free(xs);
     return atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;

@@ -6,7 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "core/internal.h"
+#include "core/alloc.h"
+#include "core/mesh_build.h"
 
 /* Per-corner entries name elements: triangles (3 corners), or on a quad mesh
  * quads (4 corners, each landing on one or two split-triangle corners). */
@@ -83,14 +84,14 @@ static void put_corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch 
 }
 
 static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
-    int nc = m->nc, st = TC_OK, nk = elem_corners(m);
+    int nc = m->nc, rc = TC_OK, nk = elem_corners(m);
     char path[64];
     for (int32_t v = 0; v < m->nv; v++) {
         if (all_finite(d->values + (size_t)v * nc, (size_t)nc)) continue;
         snprintf(path, sizeof path, "values[%d]", (int)v);
-        if (check_finite(d->values + (size_t)v * nc, (size_t)nc, path, dg) != TC_OK) st = TC_EINVAL;
+        if (check_finite(d->values + (size_t)v * nc, (size_t)nc, path, dg) != TC_OK) rc = TC_EINVAL;
     }
-    if (st != TC_OK) return st;
+    if (rc != TC_OK) return rc;
     m->cz = tc__malloc(3 * (size_t)m->nt * nc, sizeof *m->cz);
     if (!m->cz) return TC_ENOMEM;
     for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
@@ -103,32 +104,32 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
         int32_t e = d->corner_values_tri[i], c0[2];
         const double *z = d->corner_values + (size_t)i * nk * nc;
         if (check_elem(m, "corner_values", i, e, dg) != TC_OK) {
-            st = TC_EINVAL;
+            rc = TC_EINVAL;
             continue;
         }
         if (!kept_elem(m, "corner_values", i, &e, dg)) continue;
         landing(m, e, 0, c0); /* every element's corner 0 lands on its own first triangle */
         if (s->cv_src[c0[0]] >= 0) {
             snprintf(path, sizeof path, "corner_values[%d].%s", (int)i, tc__elem_word(m));
-            st = tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d already has corner values (corner_values[%d])",
+            rc = tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d already has corner values (corner_values[%d])",
                               tc__elem_word(m), (int)e, (int)s->cv_src[c0[0]]);
             continue;
         }
         snprintf(path, sizeof path, "corner_values[%d].values", (int)i);
         if (check_finite(z, (size_t)nk * nc, path, dg) != TC_OK) {
-            st = TC_EINVAL;
+            rc = TC_EINVAL;
             continue;
         }
         put_corner_values(m, d, s, i, e, z);
     }
-    return st;
+    return rc;
 }
 
 static int alloc_gradients(struct tc_mesh *m) {
-    if (m->cg) return TC_OK;
-    m->cg = tc__calloc(3 * (size_t)m->nt * m->nc * 2, sizeof *m->cg);
-    m->cg_has = tc__calloc(3 * (size_t)m->nt, sizeof *m->cg_has);
-    return m->cg && m->cg_has ? TC_OK : TC_ENOMEM;
+    if (m->given_grad) return TC_OK;
+    m->given_grad = tc__calloc(3 * (size_t)m->nt * m->nc * 2, sizeof *m->given_grad);
+    m->given_grad_has = tc__calloc(3 * (size_t)m->nt, sizeof *m->given_grad_has);
+    return m->given_grad && m->given_grad_has ? TC_OK : TC_ENOMEM;
 }
 
 /* Converts a vertex's normals (one per channel) to gradients, g = -(nx, ny)/nz. */
@@ -152,7 +153,7 @@ static int normal_to_gradient(const double *n, int nc, int32_t v, double *g, tc_
 
 /* Per-vertex gradients or normals, copied onto every corner of the vertex. */
 static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
-    int nc = m->nc, st = TC_OK;
+    int nc = m->nc, rc = TC_OK;
     size_t stride = 2 * (size_t)nc;
     double g[2 * TC_MAX_CHANNELS];
     char path[48];
@@ -162,7 +163,7 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
             if (!all_finite(d->gradients + (size_t)v * stride, stride))
                 snprintf(path, sizeof path, "gradients[%d]", (int)v);
             if (check_finite(d->gradients + (size_t)v * stride, stride, path, dg) != TC_OK) {
-                st = TC_EINVAL;
+                rc = TC_EINVAL;
                 continue;
             }
             memcpy(g, d->gradients + (size_t)v * stride, stride * sizeof *g);
@@ -172,17 +173,17 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
                 snprintf(path, sizeof path, "normals[%d]", (int)v);
             if (check_finite(d->normals + (size_t)v * 3 * nc, 3 * (size_t)nc, path, dg) != TC_OK ||
                 normal_to_gradient(d->normals + (size_t)v * 3 * nc, nc, v, g, dg) != TC_OK) {
-                st = TC_EINVAL;
+                rc = TC_EINVAL;
                 continue;
             }
         }
         for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++) {
             int32_t c = m->vcorner[i];
-            memcpy(m->cg + (size_t)c * stride, g, stride * sizeof *g);
-            m->cg_has[c] = 1;
+            memcpy(m->given_grad + (size_t)c * stride, g, stride * sizeof *g);
+            m->given_grad_has[c] = 1;
         }
     }
-    return st;
+    return rc;
 }
 
 /* Corner k of corner_gradients entry i onto the corners of element e. */
@@ -196,14 +197,14 @@ static int put_corner_gradient(struct tc_mesh *m, const tc_mesh_desc *d, int32_t
     if (check_finite(g, stride, path, dg) != TC_OK) return TC_EINVAL;
     int32_t cs[2];
     for (int n = landing(m, e, k, cs), j = 0; j < n; j++) {
-        memcpy(m->cg + (size_t)cs[j] * stride, g, stride * sizeof *g);
-        m->cg_has[cs[j]] = 1;
+        memcpy(m->given_grad + (size_t)cs[j] * stride, g, stride * sizeof *g);
+        m->given_grad_has[cs[j]] = 1;
     }
     return TC_OK;
 }
 
 static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
-    int st = TC_OK;
+    int rc = TC_OK;
     int32_t ne = elem_count(m);
     char path[64];
     int32_t *seen = d->ncorner_gradients ? tc__malloc((size_t)ne, sizeof *seen) : NULL;
@@ -212,33 +213,33 @@ static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
     for (int32_t i = 0; i < d->ncorner_gradients; i++) {
         int32_t e = d->corner_gradients_tri[i];
         if (check_elem(m, "corner_gradients", i, e, dg) != TC_OK) {
-            st = TC_EINVAL;
+            rc = TC_EINVAL;
             continue;
         }
         if (seen[e] >= 0) {
             snprintf(path, sizeof path, "corner_gradients[%d].%s", (int)i, tc__elem_word(m));
-            st = tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d already has corner gradients (corner_gradients[%d])",
+            rc = tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d already has corner gradients (corner_gradients[%d])",
                               tc__elem_word(m), (int)e, (int)seen[e]);
             continue;
         }
         seen[e] = i;
         if (!kept_elem(m, "corner_gradients", i, &e, dg)) continue;
         for (int k = 0; k < elem_corners(m); k++)
-            if (put_corner_gradient(m, d, i, e, k, dg) != TC_OK) st = TC_EINVAL;
+            if (put_corner_gradient(m, d, i, e, k, dg) != TC_OK) rc = TC_EINVAL;
     }
     free(seen);
-    return st;
+    return rc;
 }
 
 static int gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     if (d->gradients && d->normals)
         return tc_diags_add(dg, TC_SEV_ERROR, "normals", "give either gradients or normals, not both");
     if (!d->gradients && !d->normals && d->ncorner_gradients == 0) return TC_OK;
-    int st = alloc_gradients(m);
-    if (st != TC_OK) return st;
-    if (d->gradients || d->normals) st = vertex_gradients(m, d, dg);
-    if (corner_gradients(m, d, dg) != TC_OK) st = TC_EINVAL;
-    return st;
+    int rc = alloc_gradients(m);
+    if (rc != TC_OK) return rc;
+    if (d->gradients || d->normals) rc = vertex_gradients(m, d, dg);
+    if (corner_gradients(m, d, dg) != TC_OK) rc = TC_EINVAL;
+    return rc;
 }
 
 /* Stores midpoint sample i on edge side c (corner id of the edge). */
@@ -265,7 +266,7 @@ static int32_t side_in(const struct tc_mesh *m, int32_t t, int32_t a, int32_t b)
 static int put_named(struct tc_mesh *m, int32_t *src, int32_t e, int32_t a, int32_t b, int32_t i, const double *z,
                      tc_diags *dg) {
     char path[64];
-    int st = TC_OK, found = 0;
+    int rc = TC_OK, found = 0;
     int32_t k = e, halves = e >= elem_count(m) ? 0 : m->nq ? 2 : 1; /* past the end: none */
     if (halves && !kept_elem(m, "midpoints", i, &k, dg)) return TC_OK;
     snprintf(path, sizeof path, "midpoints[%d]", (int)i);
@@ -274,9 +275,9 @@ static int put_named(struct tc_mesh *m, int32_t *src, int32_t e, int32_t a, int3
         int32_t c = side_in(m, t, a, b);
         if (c < 0) continue;
         found = 1;
-        if (put_midpoint(m, src, (size_t)c, i, z, path, dg) != TC_OK) st = TC_EINVAL;
+        if (put_midpoint(m, src, (size_t)c, i, z, path, dg) != TC_OK) rc = TC_EINVAL;
     }
-    if (found) return st;
+    if (found) return rc;
     snprintf(path, sizeof path, "midpoints[%d].%s", (int)i, tc__elem_word(m));
     return tc_diags_add(dg, TC_SEV_ERROR, path, "%s %d does not have edge [%d, %d]", tc__elem_word(m), (int)e, (int)a,
                         (int)b);
@@ -312,10 +313,10 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
     snprintf(path, sizeof path, "midpoints[%d]", (int)i);
     if (t < -1 && check_elem(m, "midpoints", i, t, dg) != TC_OK) return TC_EINVAL; /* past the end: no such edge */
     if (t >= 0) return put_named(m, src, t, a, b, i, z, dg);
-    int st = put_midpoint(m, src, (size_t)c, i, z, path, dg);
-    if (st == TC_OK && m->nbr[c] >= 0)
-        st = put_midpoint(m, src, 3 * (size_t)m->nbr[c] + (size_t)m->nbr_k[c], i, z, path, dg);
-    return st;
+    int rc = put_midpoint(m, src, (size_t)c, i, z, path, dg);
+    if (rc == TC_OK && m->nbr[c] >= 0)
+        rc = put_midpoint(m, src, 3 * (size_t)m->nbr[c] + (size_t)m->nbr_k[c], i, z, path, dg);
+    return rc;
 }
 
 static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
@@ -325,11 +326,11 @@ static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_di
     m->mid_has = tc__calloc(nc, sizeof *m->mid_has);
     int32_t *src = s->mid_src = tc__malloc(nc, sizeof *src);
     if (!m->mid || !m->mid_has || !src) return TC_ENOMEM;
-    int st = TC_OK;
+    int rc = TC_OK;
     for (size_t c = 0; c < nc; c++) src[c] = -1;
     for (int32_t i = 0; i < d->nmidpoints; i++)
-        if (midpoint(m, d, i, src, dg) != TC_OK) st = TC_EINVAL;
-    return st;
+        if (midpoint(m, d, i, src, dg) != TC_OK) rc = TC_EINVAL;
+    return rc;
 }
 
 /* Per-vertex second derivatives (fxx, fxy, fyy) per channel, for the Hermite
@@ -340,30 +341,30 @@ static int hessians(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     m->hess = tc__calloc((size_t)m->nv * stride, sizeof *m->hess);
     m->hess_has = tc__calloc((size_t)m->nv, sizeof *m->hess_has);
     if (!m->hess || !m->hess_has) return TC_ENOMEM;
-    int st = TC_OK;
+    int rc = TC_OK;
     for (int32_t v = 0; v < m->nv; v++) {
         if (d->hessians_mask && !d->hessians_mask[v]) continue;
         char path[48];
         snprintf(path, sizeof path, "hessians[%d]", (int)v);
         const double *h = d->hessians + (size_t)v * stride;
         if (check_finite(h, stride, path, dg) != TC_OK) {
-            st = TC_EINVAL;
+            rc = TC_EINVAL;
             continue;
         }
         memcpy(m->hess + (size_t)v * stride, h, stride * sizeof *h);
         m->hess_has[v] = 1;
     }
-    return st;
+    return rc;
 }
 
 int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     scratch s = {0};
-    int st = corner_values(m, d, &s, dg);
-    if (st == TC_OK) st = gradients(m, d, dg);
-    if (st == TC_OK) st = hessians(m, d, dg);
-    if (st == TC_OK) st = midpoints(m, d, &s, dg);
-    if (st == TC_OK) st = tc__values_agree(m, d->value_tolerance, s.cv_src, s.mid_src, dg);
+    int rc = corner_values(m, d, &s, dg);
+    if (rc == TC_OK) rc = gradients(m, d, dg);
+    if (rc == TC_OK) rc = hessians(m, d, dg);
+    if (rc == TC_OK) rc = midpoints(m, d, &s, dg);
+    if (rc == TC_OK) rc = tc__values_agree(m, d->value_tolerance, s.cv_src, s.mid_src, dg);
     free(s.cv_src);
     free(s.mid_src);
-    return st;
+    return rc;
 }

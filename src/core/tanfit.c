@@ -26,10 +26,11 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/lsq.h"
+#include "core/mesh.h"
 #include "core/tanfit.h"
 
 /* Two vertex rings give a cubic 18 samples on a regular mesh; narrow wedges and
@@ -55,7 +56,7 @@
 /* Faces one sector's neighbourhood may hold; beyond, it stops growing. */
 #define MAX_FACES 512
 
-int tc__fit_space_init(const struct tc_mesh *m, tc_fit_space *fs) {
+int tc__fit_space_init(const struct tc_mesh *m, tc__fit_space *fs) {
     fs->tmark = tc__calloc((size_t)m->nt, sizeof *fs->tmark);
     fs->vmark = tc__calloc((size_t)m->nv, sizeof *fs->vmark);
     fs->vsample = tc__calloc((size_t)m->nv, sizeof *fs->vsample);
@@ -67,7 +68,7 @@ int tc__fit_space_init(const struct tc_mesh *m, tc_fit_space *fs) {
     return TC_OK;
 }
 
-void tc__fit_space_free(tc_fit_space *fs) {
+void tc__fit_space_free(tc__fit_space *fs) {
     free(fs->tmark), free(fs->vmark), free(fs->vsample);
     memset(fs, 0, sizeof *fs);
 }
@@ -102,7 +103,7 @@ static void add_midpoint(const struct tc_mesh *m, hood *h, int32_t e, int ring) 
 
 /* Corner c's vertex as a sample (its value on c's side of any C-1 edge). A
  * vertex at v's own position (the twin of a crack) carries no slope: skipped. */
-static void add_vertex(const struct tc_mesh *m, const double *cz, tc_fit_space *fs, hood *h, int32_t c, int ring) {
+static void add_vertex(const struct tc_mesh *m, const double *cz, tc__fit_space *fs, hood *h, int32_t c, int ring) {
     int32_t u = m->tri[c];
     if (u == h->v || fs->vmark[u] == fs->gen || h->n == TC_LSQ_MAXROWS) return;
     double d[2];
@@ -115,11 +116,11 @@ static void add_vertex(const struct tc_mesh *m, const double *cz, tc_fit_space *
     h->key[i] = u, h->ring[i] = (int8_t)ring, h->dup[i] = 0;
 }
 
-static int is_sample(const tc_fit_space *fs, int32_t u) { return fs->vmark[u] == fs->gen; }
+static int is_sample(const tc__fit_space *fs, int32_t u) { return fs->vmark[u] == fs->gen; }
 
 /* An edge of f much shorter than its ends' distance from v joins two samples
  * at nearly one position: the later counts as a duplicate. */
-static void note_duplicates(const struct tc_mesh *m, const tc_fit_space *fs, hood *h, int32_t f) {
+static void note_duplicates(const struct tc_mesh *m, const tc__fit_space *fs, hood *h, int32_t f) {
     for (int k = 0; k < 3; k++) {
         int32_t a = m->tri[3 * (size_t)f + k], b = m->tri[3 * (size_t)f + (k + 1) % 3];
         if (a == h->v || b == h->v || !is_sample(fs, a) || !is_sample(fs, b)) continue;
@@ -131,7 +132,7 @@ static void note_duplicates(const struct tc_mesh *m, const tc_fit_space *fs, hoo
     }
 }
 
-static void add_face(const struct tc_mesh *m, const double *cz, tc_fit_space *fs, hood *h, int32_t f, int ring) {
+static void add_face(const struct tc_mesh *m, const double *cz, tc__fit_space *fs, hood *h, int32_t f, int ring) {
     if (h->nf == MAX_FACES) return;
     fs->tmark[f] = fs->gen;
     h->face[h->nf++] = f;
@@ -141,7 +142,7 @@ static void add_face(const struct tc_mesh *m, const double *cz, tc_fit_space *fs
 }
 
 /* Some vertex of f was first reached in ring `ring`. */
-static int touches_ring(const struct tc_mesh *m, const tc_fit_space *fs, const hood *h, int32_t f, int ring) {
+static int touches_ring(const struct tc_mesh *m, const tc__fit_space *fs, const hood *h, int32_t f, int ring) {
     for (int k = 0; k < 3; k++) {
         int32_t u = m->tri[3 * (size_t)f + k];
         if (is_sample(fs, u) && h->ring[fs->vsample[u]] == ring) return 1;
@@ -152,7 +153,7 @@ static int touches_ring(const struct tc_mesh *m, const tc_fit_space *fs, const h
 /* Ring L: the faces that touch a ring L-1 vertex and are reached from the
  * faces gathered so far across C1 edges only (never a delimiter, never a face
  * at v: those belong to other sectors or wedges). */
-static int grow_ring(const struct tc_mesh *m, int honor, const double *cz, tc_fit_space *fs, hood *h, int L) {
+static int grow_ring(const struct tc_mesh *m, int honor, const double *cz, tc__fit_space *fs, hood *h, int L) {
     int before = h->nf;
     for (int i = 0; i < h->nf; i++)
         for (int k = 0; k < 3; k++) {
@@ -224,14 +225,14 @@ static int32_t between(const struct tc_mesh *m, int32_t a, int32_t b) {
 }
 
 /* A flagged edge inside a wedge: only at a C1 vertex, between sectors. */
-static int splits(const struct tc_mesh *m, const tc_wedge_set *ws, int32_t a, int32_t b) {
+static int splits(const struct tc_mesh *m, const tc__wedge_set *ws, int32_t a, int32_t b) {
     return tc__eff_flag(m, ws->honor_flags, between(m, a, b)) != TC_C1;
 }
 
 /* The plane of the sector made of corners cs[(s0 + i) % cnt], i < len; *area
  * receives the area of its faces. */
-static void fit_sector(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                       tc_fit_space *fs, int s0, int len, double *g, double *area) {
+static void fit_sector(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *cz,
+                       tc__fit_space *fs, int s0, int len, double *g, double *area) {
     const int32_t *cs = ws->corners + w->first;
     hood h;
     h.v = w->v, h.n = h.ndup = h.nf = 0;
@@ -249,8 +250,8 @@ static void fit_sector(const struct tc_mesh *m, const tc_wedge_set *ws, const tc
     fit(&h, cz + (size_t)cs[s0] * m->nc, m->nc, g);
 }
 
-void tc__fit_wedge(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                   tc_fit_space *fs, double *g) {
+void tc__fit_wedge(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *cz,
+                   tc__fit_space *fs, double *g) {
     const int32_t *cs = ws->corners + w->first;
     int cnt = w->count, nc = m->nc, full = w->side_edge[0] < 0, s0 = -1;
     /* A full turn is cyclic: its sectors start after its first flagged edge. */

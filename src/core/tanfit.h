@@ -11,13 +11,13 @@ typedef struct {
     int32_t *tmark, *vmark; /* [nt], [nv]: the generation that last visited */
     int32_t *vsample;       /* [nv]: a vertex's row in the current fit */
     int32_t gen;
-} tc_fit_space;
+} tc__fit_space;
 
-int tc__fit_space_init(const struct tc_mesh *m, tc_fit_space *fs);
-void tc__fit_space_free(tc_fit_space *fs);
+int tc__fit_space_init(const struct tc_mesh *m, tc__fit_space *fs);
+void tc__fit_space_free(tc__fit_space *fs);
 
 /* g[nc][2]: the estimated plane of wedge w from the corner values cz. */
-void tc__fit_wedge(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                   tc_fit_space *fs, double *g);
+void tc__fit_wedge(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *cz,
+                   tc__fit_space *fs, double *g);
 
 #endif

@@ -7,7 +7,7 @@
 
 #include "core/fhypot.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/plane.h"
 #include "core/tanfit.h"
 #include "core/tangent.h"
@@ -40,7 +40,7 @@ static int has_midpoints(const struct tc_mesh *m, int32_t c) {
 }
 
 static int source_of(const struct tc_mesh *m, int32_t c, tc_tangents mode, tc_diags *dg) {
-    int given = m->cg_has && m->cg_has[c];
+    int given = m->given_grad_has && m->given_grad_has[c];
     if (mode == TC_TANGENTS_ESTIMATE) return SRC_ESTIMATE;
     if (given && mode != TC_TANGENTS_MIDPOINTS) return SRC_GIVEN;
     if (mode != TC_TANGENTS_GIVEN && has_midpoints(m, c)) return SRC_MIDPOINTS;
@@ -117,8 +117,8 @@ typedef struct {
  * faces sees |g.e| > PLANE_BOUND * (spread of the wedge's corner values). A
  * channel counts in the effect only where its wedge is not flat to the noise
  * and the change is material (CLAMP_MATERIAL); else the effect stays {1, 0}. */
-static bound_effect bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w,
-                                const double *cz, const chan_stats *st, double *g) {
+static bound_effect bound_plane(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w,
+                                const double *cz, const chan_stats *cs, double *g) {
     int nc = m->nc;
     bound_effect fx = {1, 0};
     for (int ch = 0; ch < nc; ch++) {
@@ -137,9 +137,9 @@ static bound_effect bound_plane(const struct tc_mesh *m, const tc_wedge_set *ws,
         double f = limit > 0 ? limit / rise : 0; /* limit 0: flat data, flat plane */
         gc[0] *= f, gc[1] *= f;
         double moved = (1 - f) * rise / 3; /* the most an edge ordinate z_v + g.e/3 moved */
-        if (hi - lo <= FLAT_NOISE * st->scale[ch] || !(moved > CLAMP_MATERIAL * st->range[ch])) continue;
+        if (hi - lo <= FLAT_NOISE * cs->scale[ch] || !(moved > CLAMP_MATERIAL * cs->range[ch])) continue;
         fx.factor = fmin(fx.factor, f);
-        fx.moved = fmax(fx.moved, moved / st->range[ch]);
+        fx.moved = fmax(fx.moved, moved / cs->range[ch]);
     }
     return fx;
 }
@@ -196,31 +196,31 @@ static void warn_clamps(const clamp_report *cr, tc_diags *dg) {
 }
 
 /* The estimate of wedge w, with the fit's work space made on first use. */
-static int estimate(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *cz,
-                    tc_fit_space *fs, double *g) {
+static int estimate(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *cz,
+                    tc__fit_space *fs, double *g) {
     if (!fs->tmark && tc__fit_space_init(m, fs) != TC_OK) return TC_ENOMEM;
     tc__fit_wedge(m, ws, w, cz, fs, g);
     return TC_OK;
 }
 
-int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const double *cz, tc_tangents mode,
-                      double *in, tc_diags *dg) {
+int tc__corner_inputs(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, tc_tangents mode,
+                      double *inputs, tc_diags *dg) {
     size_t stride = 2 * (size_t)m->nc;
-    int st = TC_OK;
+    int rc = TC_OK;
     clamp_report cr;
     memset(&cr, 0, sizeof cr);
     chan_stats cs;
-    tc_fit_space fs = {0};
+    tc__fit_space fs = {0};
     channel_stats(m, cz, &cs);
-    for (int32_t w = 0; w < ws->nw && st != TC_ENOMEM; w++) {
-        const tc_wedge *wd = &ws->w[w];
+    for (int32_t w = 0; w < ws->nw && rc != TC_ENOMEM; w++) {
+        const tc__wedge *wd = &ws->w[w];
         double est[2 * TC_MAX_CHANNELS];
         int estimated = 0;
         for (int32_t i = 0; i < wd->count; i++) {
             int32_t c = ws->corners[wd->first + i];
-            double *g = in + (size_t)c * stride;
+            double *g = inputs + (size_t)c * stride;
             switch (source_of(m, c, mode, dg)) {
-            case SRC_GIVEN: memcpy(g, m->cg + (size_t)c * stride, stride * sizeof *g); break;
+            case SRC_GIVEN: memcpy(g, m->given_grad + (size_t)c * stride, stride * sizeof *g); break;
             case SRC_MIDPOINTS:
                 from_midpoints(m, cz, c, g);
                 note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, g), wd->v, 0);
@@ -228,19 +228,19 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc_wedge_set *ws, const dou
             case SRC_ESTIMATE: /* one fit per wedge, shared by its corners */
                 if (!estimated++) {
                     if (estimate(m, ws, wd, cz, &fs, est) != TC_OK) {
-                        st = TC_ENOMEM;
+                        rc = TC_ENOMEM;
                         break;
                     }
                     note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, est), wd->v, 1);
                 }
                 memcpy(g, est, stride * sizeof *g);
                 break;
-            default: st = TC_EINVAL;
+            default: rc = TC_EINVAL;
             }
-            if (st == TC_ENOMEM) break;
+            if (rc == TC_ENOMEM) break;
         }
     }
     tc__fit_space_free(&fs);
-    if (st == TC_OK) warn_clamps(&cr, dg);
-    return st;
+    if (rc == TC_OK) warn_clamps(&cr, dg);
+    return rc;
 }

@@ -4,8 +4,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh_build.h"
 
 /* Corners of each vertex, in increasing triangle order (a counting sort). */
 static int build_vertex_corners(struct tc_mesh *m) {
@@ -96,8 +97,8 @@ static int link_edge(struct tc_mesh *m, int32_t t, int k, tc_diags *dg) {
 
 int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     size_t nc = 3 * (size_t)m->nt;
-    int st = build_vertex_corners(m);
-    if (st != TC_OK) return st;
+    int rc = build_vertex_corners(m);
+    if (rc != TC_OK) return rc;
     m->nbr = tc__malloc(nc, sizeof *m->nbr);
     m->nbr_k = tc__calloc(nc, sizeof *m->nbr_k);
     m->flag = tc__malloc(nc, sizeof *m->flag);
@@ -105,8 +106,8 @@ int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     for (size_t c = 0; c < nc; c++) m->nbr[c] = -1;
     for (int32_t t = 0; t < m->nt; t++)
         for (int k = 0; k < 3; k++)
-            if (link_edge(m, t, k, dg) != TC_OK) st = TC_EINVAL;
-    if (st != TC_OK) return st;
+            if (link_edge(m, t, k, dg) != TC_OK) rc = TC_EINVAL;
+    if (rc != TC_OK) return rc;
     for (size_t c = 0; c < nc; c++) m->flag[c] = m->nbr[c] >= 0 ? TC_C1 : TC_CM1;
     return TC_OK;
 }
@@ -164,27 +165,27 @@ static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j
 }
 
 static int flag_polylines(struct tc_mesh *m, const tc_polylines *pl, flag_ctx *fc, tc_diags *dg) {
-    int st = TC_OK;
+    int rc = TC_OK;
     char path[64];
     for (int32_t i = 0; i < pl->count; i++) {
         int32_t s = pl->start[i], e = pl->start[i + 1];
         snprintf(path, sizeof path, "discontinuities.%s[%d]", fc->name, (int)i);
         if (e - s < 2) {
-            st = tc_diags_add(dg, TC_SEV_ERROR, path, "a polyline needs at least 2 vertices");
+            rc = tc_diags_add(dg, TC_SEV_ERROR, path, "a polyline needs at least 2 vertices");
             continue;
         }
         for (int32_t j = s; j < e; j++) {
             int32_t v = pl->verts[j];
             if (v < 0 || v >= m->nv) {
                 snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)i, (int)(j - s));
-                st = tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index %d out of range (%d vertices)", (int)v,
+                rc = tc_diags_add(dg, TC_SEV_ERROR, path, "vertex index %d out of range (%d vertices)", (int)v,
                                   (int)m->nv);
                 break;
             }
-            if (j > s && flag_segment(m, fc, i, j - 1 - s, pl->verts[j - 1], v, dg) != TC_OK) st = TC_EINVAL;
+            if (j > s && flag_segment(m, fc, i, j - 1 - s, pl->verts[j - 1], v, dg) != TC_OK) rc = TC_EINVAL;
         }
     }
-    return st;
+    return rc;
 }
 
 int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
@@ -194,17 +195,17 @@ int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     fc.d = d;
     fc.src = tc__malloc(nc, sizeof *fc.src);
     fc.src_kind = tc__malloc(nc, sizeof *fc.src_kind);
-    int st = TC_ENOMEM;
+    int rc = TC_ENOMEM;
     if (fc.src && fc.src_kind) {
         for (size_t c = 0; c < nc; c++) fc.src[c] = -1;
         fc.name = "c0";
         fc.kind = TC_C0;
-        st = flag_polylines(m, &d->c0, &fc, dg);
+        rc = flag_polylines(m, &d->c0, &fc, dg);
         fc.name = "c-1";
         fc.kind = TC_CM1;
-        if (flag_polylines(m, &d->cm1, &fc, dg) != TC_OK) st = TC_EINVAL;
+        if (flag_polylines(m, &d->cm1, &fc, dg) != TC_OK) rc = TC_EINVAL;
     }
     free(fc.src);
     free(fc.src_kind);
-    return st;
+    return rc;
 }

@@ -2,11 +2,12 @@
  * faces around each vertex into wedges by walking its fan between delimiters. */
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
-#include "core/internal.h"
+#include "core/mesh.h"
 #include "core/wedge.h"
 
-void tc__wedges_free(tc_wedge_set *ws) {
+void tc__wedges_free(tc__wedge_set *ws) {
     if (!ws) return;
     free(ws->w);
     free(ws->corners);
@@ -48,7 +49,7 @@ static int8_t classify(const struct tc_mesh *m, int honor, int32_t v) {
     return TC_C1;
 }
 
-static int is_delimiter(const struct tc_mesh *m, const tc_wedge_set *ws, int32_t v, int32_t e) {
+static int is_delimiter(const struct tc_mesh *m, const tc__wedge_set *ws, int32_t v, int32_t e) {
     return ws->vclass[v] != TC_C1 && tc__eff_flag(m, ws->honor_flags, e) != TC_C1;
 }
 
@@ -63,7 +64,7 @@ static int32_t step(const struct tc_mesh *m, int32_t v, int32_t e, int32_t *exit
 
 /* Walks from corner c0 leaving through edge `exit` until a delimiter (whose id
  * goes to *end) or back to c0 (returns -1). Appends the corners passed. */
-static int32_t walk(const struct tc_mesh *m, const tc_wedge_set *ws, int32_t v, int32_t c0, int32_t exit,
+static int32_t walk(const struct tc_mesh *m, const tc__wedge_set *ws, int32_t v, int32_t c0, int32_t exit,
                     int32_t *seq, int32_t *n, int32_t limit, int32_t *end) {
     while (!is_delimiter(m, ws, v, exit)) {
         int32_t c = step(m, v, exit, &exit);
@@ -74,7 +75,7 @@ static int32_t walk(const struct tc_mesh *m, const tc_wedge_set *ws, int32_t v, 
     return 0;
 }
 
-static void set_side(const struct tc_mesh *m, const tc_wedge_set *ws, tc_wedge *w, int s, int32_t e) {
+static void set_side(const struct tc_mesh *m, const tc__wedge_set *ws, tc__wedge *w, int s, int32_t e) {
     w->side_edge[s] = e;
     w->side_kind[s] = (int8_t)(tc__eff_flag(m, ws->honor_flags, e) == TC_C0 ? TC_C0 : TC_CM1);
     w->across[s] = -1;
@@ -83,9 +84,9 @@ static void set_side(const struct tc_mesh *m, const tc_wedge_set *ws, tc_wedge *
 
 /* Builds the wedge of vertex v that contains corner c0. `buf` has room for
  * twice the vertex degree. Corners go to ws->corners[*fill ..]. */
-static void build_wedge(const struct tc_mesh *m, tc_wedge_set *ws, int32_t v, int32_t c0, int32_t *buf,
+static void build_wedge(const struct tc_mesh *m, tc__wedge_set *ws, int32_t v, int32_t c0, int32_t *buf,
                         int32_t deg, int32_t *fill) {
-    tc_wedge *w = &ws->w[ws->nw];
+    tc__wedge *w = &ws->w[ws->nw];
     int32_t t0 = c0 / 3, k0 = c0 % 3, nf = 0, nb = 0, end_f = -1, end_b = -1;
     int32_t *fwd = buf, *bwd = buf + deg;
     memset(w, 0, sizeof *w);
@@ -113,9 +114,9 @@ static void build_wedge(const struct tc_mesh *m, tc_wedge_set *ws, int32_t v, in
 }
 
 /* Links each C0 side to the wedge across it. */
-static void link_across(const struct tc_mesh *m, tc_wedge_set *ws) {
+static void link_across(const struct tc_mesh *m, tc__wedge_set *ws) {
     for (int32_t i = 0; i < ws->nw; i++) {
-        tc_wedge *w = &ws->w[i];
+        tc__wedge *w = &ws->w[i];
         for (int s = 0; s < 2; s++) {
             if (w->side_kind[s] != TC_C0 || w->side_edge[s] < 0) continue;
             int32_t e = w->side_edge[s], t2 = m->nbr[e];
@@ -137,7 +138,7 @@ static int32_t max_degree(const struct tc_mesh *m) {
     return d;
 }
 
-int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc_wedge_set *ws) {
+int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws) {
     size_t nc = 3 * (size_t)m->nt;
     int32_t deg = max_degree(m), fill = 0;
     memset(ws, 0, sizeof *ws);

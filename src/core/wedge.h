@@ -1,5 +1,6 @@
 /* wedge.h — vertex classes and the wedges around each vertex (paper §2, Fig. 4).
- * A wedge is a maximal fan of faces at a vertex not separated by a delimiter. */
+ * A wedge (tc__wedge) is a maximal fan of faces at a vertex not separated by a
+ * delimiter; the public tc_wedges is the option choosing the rule for its plane. */
 #ifndef TC_CORE_WEDGE_H
 #define TC_CORE_WEDGE_H
 
@@ -7,7 +8,7 @@
 
 enum { TC_SIDE_A = 0, TC_SIDE_B = 1 };
 
-/* Invariants: the corners of a wedge are contiguous in tc_wedge_set.corners and
+/* Invariants: the corners of a wedge are contiguous in tc__wedge_set.corners and
  * ordered counter-clockwise from side A to side B; a wedge at a C1 vertex is a
  * full turn with no sides (side_edge = -1); a side of kind TC_C0 always has a
  * different wedge `across` it. */
@@ -19,17 +20,17 @@ typedef struct {
     int32_t across[2];    /* the wedge across a TC_C0 side, else -1 */
     double dir[2][2];     /* from v along each bounding edge to its other end */
     uint8_t collinear;    /* two distinct sides at 180 degrees (paper's Collinear(W)) */
-} tc_wedge;
+} tc__wedge;
 
 typedef struct {
     int32_t nw;
-    tc_wedge *w;
+    tc__wedge *w;
     int32_t *corners;    /* [3nt] corner ids grouped by wedge */
     int32_t *of_corner;  /* [3nt] wedge of each corner */
     int8_t *vclass;      /* [nv] TC_C1, TC_C0 or TC_CM1 */
     int honor_flags;     /* TC_HONOR_*: which interior flags delimit wedges */
     int32_t ncoupled;    /* wedges with a C0 side: work for WedgeNormal steps 3-4 */
-} tc_wedge_set;
+} tc__wedge_set;
 
 /* Which interior flags a reconstruction honours (tc__wedges_build's
  * honor_flags; 0 and 1 are also plain booleans). The boundary always delimits. */
@@ -46,7 +47,7 @@ static inline int tc__eff_flag(const struct tc_mesh *m, int honor_flags, int32_t
     return honor_flags == TC_HONOR_CM1 && f == TC_CM1 ? TC_CM1 : TC_C1;
 }
 
-int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc_wedge_set *ws);
-void tc__wedges_free(tc_wedge_set *ws);
+int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws);
+void tc__wedges_free(tc__wedge_set *ws);
 
 #endif

@@ -26,16 +26,18 @@
  * one the vertex gets as a C1 vertex just outside the band. */
 
 typedef struct {
-    const tc_wedge_set *ws;
+    const tc__wedge_set *ws;
     const double *avg;  /* [nw][nc][2] step 1: each wedge's average plane */
     const double *vplane; /* [nw][nc][2] the mean plane of the wedge's vertex (all its wedges) */
     const double *area; /* [nw] total area of each wedge's faces (by_area) */
     int nc;
     int by_area;        /* average "area" (else unit normals) */
     int corrected;      /* wedges "corrected": nearly straight wedges are blended */
-} ctx;
+} plane_rules;
 
-static const double *avg_of(const ctx *x, int32_t w, int ch) { return x->avg + (2 * ((size_t)w * x->nc + ch)); }
+static const double *avg_of(const plane_rules *pr, int32_t w, int ch) {
+    return pr->avg + (2 * ((size_t)w * pr->nc + ch));
+}
 
 static double face_area(const struct tc_mesh *m, int32_t t) {
     const int32_t *v = m->tri + 3 * (size_t)t;
@@ -50,14 +52,14 @@ static double face_area(const struct tc_mesh *m, int32_t t) {
  * ask of the whole reconstruction), and a sliver — a face of near-zero area
  * whose plane, from three nearly collinear samples, can be wildly steep —
  * cannot tilt it (the stiff scene of the report). */
-static void area_mean(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *in, int nc,
-                      double *out, double *total) {
+static void area_mean(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *inputs,
+                      int nc, double *out, double *total) {
     size_t stride = 2 * (size_t)nc;
     double sum[2 * TC_MAX_CHANNELS] = {0}, wsum = 0;
     for (int32_t i = 0; i < w->count; i++) {
         int32_t c = ws->corners[w->first + i];
         double a = face_area(m, c / 3);
-        for (size_t k = 0; k < stride; k++) sum[k] += a * in[(size_t)c * stride + k];
+        for (size_t k = 0; k < stride; k++) sum[k] += a * inputs[(size_t)c * stride + k];
         wsum += a;
     }
     for (size_t k = 0; k < stride; k++) out[k] = sum[k] / wsum;
@@ -67,16 +69,16 @@ static void area_mean(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_
 /* Step 1, AverageNormalForWedge. average "normals" (always with wedges
  * "literal"): the paper's normalized sum of the faces' unit normals. Identical inputs (a given per-vertex plane) are
  * returned exactly in both modes. */
-static void wedge_average(const struct tc_mesh *m, const tc_wedge_set *ws, const tc_wedge *w, const double *in,
+static void wedge_average(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *inputs,
                           int by_area, double *out, double *total) {
     int nc = m->nc;
     size_t stride = 2 * (size_t)nc;
-    const double *g0 = in + (size_t)ws->corners[w->first] * stride;
+    const double *g0 = inputs + (size_t)ws->corners[w->first] * stride;
     int same = 1;
-    if (by_area) area_mean(m, ws, w, in, nc, out, total);
+    if (by_area) area_mean(m, ws, w, inputs, nc, out, total);
     else *total = 0;
     for (int32_t i = 1; i < w->count && same; i++)
-        same = !memcmp(g0, in + (size_t)ws->corners[w->first + i] * stride, stride * sizeof *g0);
+        same = !memcmp(g0, inputs + (size_t)ws->corners[w->first + i] * stride, stride * sizeof *g0);
     if (same) {
         memcpy(out, g0, stride * sizeof *out);
         return;
@@ -85,7 +87,7 @@ static void wedge_average(const struct tc_mesh *m, const tc_wedge_set *ws, const
     for (int ch = 0; ch < nc; ch++) {
         double S[3] = {0, 0, 0};
         for (int32_t i = 0; i < w->count; i++)
-            tc__normal_acc(S, in + (size_t)ws->corners[w->first + i] * stride + 2 * ch);
+            tc__normal_acc(S, inputs + (size_t)ws->corners[w->first + i] * stride + 2 * ch);
         tc__normal_to_grad(S, out + 2 * ch);
     }
 }
@@ -93,15 +95,15 @@ static void wedge_average(const struct tc_mesh *m, const tc_wedge_set *ws, const
 /* Step 3's switch: the plane whose slope along C0 side s the wedge and its
  * neighbour across s both use. Depends only on the pair, never on which of
  * the two asks, so the ordinates along the shared edge agree (C0). */
-static void coupling(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
-    const tc_wedge *w = &x->ws->w[wi];
+static void coupling(const plane_rules *pr, int32_t wi, int s, int ch, double g[2]) {
+    const tc__wedge *w = &pr->ws->w[wi];
     int32_t o = w->across[s];
-    int cw = w->collinear, co = x->ws->w[o].collinear;
-    const double *a = avg_of(x, wi, ch), *b = avg_of(x, o, ch);
-    if (cw == co && x->by_area) {
+    int cw = w->collinear, co = pr->ws->w[o].collinear;
+    const double *a = avg_of(pr, wi, ch), *b = avg_of(pr, o, ch);
+    if (cw == co && pr->by_area) {
         /* The two wedges' planes weighted by their areas: linear in the data,
          * and the same bits whichever wedge asks (sums commute). */
-        double wa = x->area[wi], wb = x->area[o];
+        double wa = pr->area[wi], wb = pr->area[o];
         g[0] = (wa * a[0] + wb * b[0]) / (wa + wb);
         g[1] = (wa * a[1] + wb * b[1]) / (wa + wb);
     } else if (cw == co) {
@@ -114,7 +116,7 @@ static void coupling(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
 }
 
 /* |sin| of the angle between a wedge's two sides (0 when they share a line). */
-static double side_sin(const tc_wedge *w) {
+static double side_sin(const tc__wedge *w) {
     const double *a = w->dir[0], *b = w->dir[1];
     return fabs(tc__cross(a, b)) / (tc__hypot(a[0], a[1]) * tc__hypot(b[0], b[1]));
 }
@@ -122,7 +124,7 @@ static double side_sin(const tc_wedge *w) {
 /* How far a wedge is pulled towards a bounded rule: 0 for a well-shaped wedge,
  * rising linearly to 1 as it becomes straight. 0 for wedges the exact rules
  * already handle (flagged collinear, sides on one ray, no two distinct sides). */
-static double straightness(const tc_wedge *w) {
+static double straightness(const tc__wedge *w) {
     if (w->side_edge[0] < 0 || w->collinear || w->side_edge[0] == w->side_edge[1]) return 0;
     double k = 1 - side_sin(w) / NEAR_STRAIGHT;
     return k > 0 ? k : 0;
@@ -130,7 +132,7 @@ static double straightness(const tc_wedge *w) {
 
 /* A wedge whose two sides are both C0: its side slopes are shared with its
  * neighbours, so a nearly straight one cannot fix its plane alone. */
-static double straightness_c0c0(const tc_wedge *w) {
+static double straightness_c0c0(const tc__wedge *w) {
     return w->across[0] >= 0 && w->across[1] >= 0 ? straightness(w) : 0;
 }
 
@@ -139,8 +141,8 @@ static double straightness_c0c0(const tc_wedge *w) {
  * edge, on the line's other side). Its one plane has one slope along the
  * line, so both neighbours must take that slope for their sides on the line:
  * coupling each side with its own neighbour would give two (C0 broken). */
-static int on_line(const ctx *x, int32_t wi) {
-    const tc_wedge *w = &x->ws->w[wi];
+static int on_line(const plane_rules *pr, int32_t wi) {
+    const tc__wedge *w = &pr->ws->w[wi];
     return w->across[0] >= 0 && w->across[1] >= 0 && w->across[0] != w->across[1] &&
            (w->collinear || side_sin(w) < TC_STRAIGHT_BAND);
 }
@@ -149,24 +151,24 @@ static int on_line(const ctx *x, int32_t wi) {
  * line from: the mean of L's and its two neighbours' planes (area-weighted,
  * or the paper's unit normals), pulled towards the vertex's mean plane by the
  * straightest of the three. The same whichever of them asks. */
-static void line_plane(const ctx *x, int32_t L, int ch, double g[2]) {
-    const tc_wedge *w = &x->ws->w[L];
+static void line_plane(const plane_rules *pr, int32_t L, int ch, double g[2]) {
+    const tc__wedge *w = &pr->ws->w[L];
     int32_t three[3] = {L, w->across[0], w->across[1]};
     double S[3] = {0, 0, 0}, wsum = 0, k = 0;
     g[0] = g[1] = 0;
     for (int i = 0; i < 3; i++) {
-        const double *a = avg_of(x, three[i], ch);
-        if (x->by_area) {
-            double wa = x->area[three[i]];
+        const double *a = avg_of(pr, three[i], ch);
+        if (pr->by_area) {
+            double wa = pr->area[three[i]];
             g[0] += wa * a[0], g[1] += wa * a[1], wsum += wa;
         } else {
             tc__normal_acc(S, a);
         }
-        if (x->corrected) k = fmax(k, straightness_c0c0(&x->ws->w[three[i]]));
+        if (pr->corrected) k = fmax(k, straightness_c0c0(&pr->ws->w[three[i]]));
     }
-    if (x->by_area) g[0] /= wsum, g[1] /= wsum;
+    if (pr->by_area) g[0] /= wsum, g[1] /= wsum;
     else tc__normal_to_grad(S, g);
-    const double *v = x->vplane + 2 * ((size_t)L * x->nc + ch);
+    const double *v = pr->vplane + 2 * ((size_t)L * pr->nc + ch);
     g[0] += k * (v[0] - g[0]);
     g[1] += k * (v[1] - g[1]);
 }
@@ -177,27 +179,27 @@ static void line_plane(const ctx *x, int32_t L, int ch, double g[2]) {
  * same weight and the same planes, so they agree on the edge (C0), and a
  * nearly straight wedge gets side slopes that nearly fit one plane. Sides on
  * a straight line with different wedges beyond take the line's plane. */
-static void side_plane(const ctx *x, int32_t wi, int s, int ch, double g[2]) {
-    int32_t o = x->ws->w[wi].across[s];
-    if (o >= 0 && (on_line(x, wi) || on_line(x, o))) {
-        line_plane(x, on_line(x, wi) ? wi : o, ch, g);
+static void side_plane(const plane_rules *pr, int32_t wi, int s, int ch, double g[2]) {
+    int32_t o = pr->ws->w[wi].across[s];
+    if (o >= 0 && (on_line(pr, wi) || on_line(pr, o))) {
+        line_plane(pr, on_line(pr, wi) ? wi : o, ch, g);
     } else if (o >= 0) {
-        coupling(x, wi, s, ch, g);
-        double k = x->corrected ? fmax(straightness_c0c0(&x->ws->w[wi]), straightness_c0c0(&x->ws->w[o])) : 0;
+        coupling(pr, wi, s, ch, g);
+        double k = pr->corrected ? fmax(straightness_c0c0(&pr->ws->w[wi]), straightness_c0c0(&pr->ws->w[o])) : 0;
         if (k > 0) {
-            const double *v = x->vplane + 2 * ((size_t)wi * x->nc + ch);
+            const double *v = pr->vplane + 2 * ((size_t)wi * pr->nc + ch);
             g[0] += k * (v[0] - g[0]);
             g[1] += k * (v[1] - g[1]);
         }
     } else {
-        g[0] = avg_of(x, wi, ch)[0];
-        g[1] = avg_of(x, wi, ch)[1];
+        g[0] = avg_of(pr, wi, ch)[0];
+        g[1] = avg_of(pr, wi, ch)[1];
     }
 }
 
 /* The two sides lie along one ray (the same edge, or coincident edges of a
  * crack made by duplicated vertices): they constrain one direction only. */
-static int sides_parallel(const tc_wedge *w) {
+static int sides_parallel(const tc__wedge *w) {
     const double *a = w->dir[0], *b = w->dir[1];
     return w->side_edge[0] == w->side_edge[1] ||
            (fabs(tc__cross(a, b)) <= TC_COLLINEAR_TOL * tc__hypot(a[0], a[1]) * tc__hypot(b[0], b[1]) && tc__dot(a, b) > 0);
@@ -207,18 +209,18 @@ static int sides_parallel(const tc_wedge *w) {
  * its slope along the line from one plane and keeps its own cross slope — both
  * defects of the literal version are about this case. Otherwise the plane
  * through the two side ordinates, as in the paper. */
-static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
-    const tc_wedge *w = &x->ws->w[wi];
-    const double *own = avg_of(x, wi, ch);
+static void corrected(const plane_rules *pr, int32_t wi, int ch, double out[2]) {
+    const tc__wedge *w = &pr->ws->w[wi];
+    const double *own = avg_of(pr, wi, ch);
     double ga[2], gb[2];
     if (w->collinear || sides_parallel(w)) {
         int s = w->across[TC_SIDE_A] >= 0 ? TC_SIDE_A : TC_SIDE_B;
-        side_plane(x, wi, s, ch, ga);
+        side_plane(pr, wi, s, ch, ga);
         tc__match_along(own, ga, w->dir[s], out);
         return;
     }
-    side_plane(x, wi, TC_SIDE_A, ch, ga);
-    side_plane(x, wi, TC_SIDE_B, ch, gb);
+    side_plane(pr, wi, TC_SIDE_A, ch, ga);
+    side_plane(pr, wi, TC_SIDE_B, ch, gb);
     tc__solve2(w->dir[0], w->dir[1], tc__dot(ga, w->dir[0]), tc__dot(gb, w->dir[1]), out);
     double sn = side_sin(w);
     if (w->across[0] >= 0 && w->across[1] >= 0 && sn < TC_STRAIGHT_BAND) {
@@ -226,8 +228,8 @@ static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
          * coupled slope along it, the wedge's own cross slope) to the plane above. */
         double t = sn > TC_COLLINEAR_TOL ? log(sn / TC_COLLINEAR_TOL) / log(TC_STRAIGHT_BAND / TC_COLLINEAR_TOL) : 0;
         double gc[2], kink[2];
-        if (on_line(x, wi)) side_plane(x, wi, TC_SIDE_A, ch, gc);
-        else coupling(x, wi, TC_SIDE_A, ch, gc);
+        if (on_line(pr, wi)) side_plane(pr, wi, TC_SIDE_A, ch, gc);
+        else coupling(pr, wi, TC_SIDE_A, ch, gc);
         tc__match_along(own, gc, w->dir[TC_SIDE_A], kink);
         out[0] = t * out[0] + (1 - t) * kink[0];
         out[1] = t * out[1] + (1 - t) * kink[1];
@@ -254,7 +256,7 @@ static void corrected(const ctx *x, int32_t wi, int ch, double out[2]) {
  * is refused (-1) above PROJECT_LIMIT, reported above PROJECT_WARN (as in ct.c). */
 #define PROJECT_WARN 10.0
 #define PROJECT_LIMIT 1e3
-static int literal_collinear(const tc_wedge *w, const double gp[2], const double gn[2], double out[2], double *amp) {
+static int literal_collinear(const tc__wedge *w, const double gp[2], const double gn[2], double out[2], double *amp) {
     double D[3] = {w->dir[1][0] - w->dir[0][0], w->dir[1][1] - w->dir[0][1],
                    tc__dot(gn, w->dir[1]) - tc__dot(gp, w->dir[0])};
     double N[3] = {-gn[0], -gn[1], 1};
@@ -263,20 +265,20 @@ static int literal_collinear(const tc_wedge *w, const double gp[2], const double
     *amp = INFINITY;
     if (!(P[2] > 0)) return -1;
     tc__normal_to_grad(P, out);
-    double in = fmax(tc__hypot(gp[0], gp[1]), tc__hypot(gn[0], gn[1])), g = tc__hypot(out[0], out[1]);
-    *amp = in > 0 ? g / in : g > 0 ? INFINITY : 1;
+    double inputs = fmax(tc__hypot(gp[0], gp[1]), tc__hypot(gn[0], gn[1])), g = tc__hypot(out[0], out[1]);
+    *amp = inputs > 0 ? g / inputs : g > 0 ? INFINITY : 1;
     return *amp <= PROJECT_LIMIT ? 0 : -1;
 }
 
-static int literal(const ctx *x, int32_t wi, int ch, double out[2], double *amp) {
-    const tc_wedge *w = &x->ws->w[wi];
+static int literal(const plane_rules *pr, int32_t wi, int ch, double out[2], double *amp) {
+    const tc__wedge *w = &pr->ws->w[wi];
     double gp[2], gn[2];
-    side_plane(x, wi, TC_SIDE_A, ch, gp);
-    side_plane(x, wi, TC_SIDE_B, ch, gn);
+    side_plane(pr, wi, TC_SIDE_A, ch, gp);
+    side_plane(pr, wi, TC_SIDE_B, ch, gn);
     *amp = 1;
     if (w->collinear) return literal_collinear(w, gp, gn, out, amp);
     if (sides_parallel(w)) { /* the paper's cross product vanishes here */
-        corrected(x, wi, ch, out);
+        corrected(pr, wi, ch, out);
         return 0;
     }
     tc__solve2(w->dir[0], w->dir[1], tc__dot(gp, w->dir[0]), tc__dot(gn, w->dir[1]), out);
@@ -321,7 +323,7 @@ static void warn_amp(const amp_report *a, tc_diags *dg) {
 
 /* For every wedge, the area-weighted mean of the average planes of all the
  * wedges at its vertex (wedges of one vertex are contiguous in ws->w). */
-static void vertex_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *avg, double *vplane) {
+static void vertex_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *avg, double *vplane) {
     size_t stride = 2 * (size_t)m->nc;
     for (int32_t w0 = 0, w1; w0 < ws->nw; w0 = w1) {
         double sum[2 * TC_MAX_CHANNELS] = {0}, wsum = 0;
@@ -336,7 +338,7 @@ static void vertex_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const
     }
 }
 
-int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const double *in, tc_wedges mode,
+int tc__wedge_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *inputs, tc_wedges mode,
                      tc_average average, double *out, tc_diags *dg) {
     /* Figure 6 as printed averages unit normals, whatever was asked. */
     int by_area = mode == TC_WEDGES_CORRECTED && average == TC_AVERAGE_AREA;
@@ -345,7 +347,7 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
     double *area = malloc(((size_t)ws->nw + 1) * sizeof *area);
     if (!area) return TC_ENOMEM;
     for (int32_t w = 0; w < ws->nw; w++)
-        wedge_average(m, ws, &ws->w[w], in, by_area, out + (size_t)w * stride, &area[w]);
+        wedge_average(m, ws, &ws->w[w], inputs, by_area, out + (size_t)w * stride, &area[w]);
     double *avg = ws->ncoupled ? malloc((size_t)ws->nw * stride * sizeof *avg) : NULL;
     if (ws->ncoupled == 0 || !avg) { /* no C0 sides: the averages are final */
         free(area);
@@ -358,25 +360,25 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
         return TC_ENOMEM;
     }
     vertex_planes(m, ws, avg, vplane);
-    ctx x = {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED};
-    int st = TC_OK;
+    plane_rules pr = {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED};
+    int rc = TC_OK;
     amp_report amps;
     memset(&amps, 0, sizeof amps);
-    for (int32_t w = 0; w < ws->nw && st == TC_OK; w++) {
-        const tc_wedge *wd = &ws->w[w];
+    for (int32_t w = 0; w < ws->nw && rc == TC_OK; w++) {
+        const tc__wedge *wd = &ws->w[w];
         if (wd->across[0] < 0 && wd->across[1] < 0) continue;
         for (int ch = 0; ch < nc; ch++) {
             double *g = out + (size_t)w * stride + 2 * ch, amp = 1;
             if (mode == TC_WEDGES_CORRECTED) {
-                corrected(&x, w, ch, g);
+                corrected(&pr, w, ch, g);
                 continue;
             }
-            int bad = literal(&x, w, ch, g, &amp) < 0;
+            int bad = literal(&pr, w, ch, g, &amp) < 0;
             note_amp(&amps, amp, wd->v);
             if (bad) {
                 char path[48];
                 snprintf(path, sizeof path, "vertices[%d]", (int)wd->v);
-                st = tc_diags_add(dg, TC_SEV_ERROR, path,
+                rc = tc_diags_add(dg, TC_SEV_ERROR, path,
                                   "wedges \"literal\": Figure 6's Project is singular at vertex %d (1 + a*s near 0; "
                                   "it would amplify the gradient %.3gx, limit %.0fx); use wedges \"corrected\"",
                                   (int)wd->v, amp, PROJECT_LIMIT);
@@ -384,9 +386,9 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc_wedge_set *ws, const doub
             }
         }
     }
-    if (st == TC_OK) warn_amp(&amps, dg);
+    if (rc == TC_OK) warn_amp(&amps, dg);
     free(avg);
     free(vplane);
     free(area);
-    return st;
+    return rc;
 }

@@ -1,10 +1,11 @@
 // encode.cpp — the OpenImageIO half of src/image, built as the plugin libtocher_image.so:
 // encodes tiles to PNG, OpenEXR and TIFF entirely in memory, and decodes them back for tests.
 
-// load.c opens this file with dlopen on the first image encode, so processes that never
+// plugin.c opens this file with dlopen on the first image encode, so processes that never
 // write an image never pay for OpenImageIO. Only the extern "C" functions at the end are
-// the interface; nothing may throw across them. load.c validates every input first
-// (dimensions, channel counts, the format), so the checks here only guard memory safety.
+// the interface; nothing may throw across them. codec.c validates every input first
+// against the format table (dimensions, channel counts, alpha, the format), so the checks
+// here only guard memory safety.
 //
 // Conversions (all exactly reproducible, so the tests can compare bit for bit):
 //   PNG / PNG16  x = v * 2^exposure; x = sRGB(x) unless im->linear; clamp to [0,1] (NaN -> 0);
@@ -15,8 +16,8 @@
 //                beyond +-65504 becomes +-inf). Alpha "A", stored as given.
 //   TIFF         the floats as given, 32-bit, alpha as an unassociated extra sample. OpenImageIO
 //                writes 3+ samples as RGB (+ extra samples), so 2 channels + alpha cannot be
-//                tagged: load.c refuses that case rather than write alpha as "blue".
-//   (RAW never reaches this file: load.c writes it without loading OpenImageIO.)
+//                tagged: codec.c refuses that case rather than write alpha as "blue" (its row's alpha rule).
+//   (RAW never reaches this file: codec.c writes it without loading OpenImageIO.)
 //
 // Compression, measured on a synthetic 1024x1024 RGB float tile (smooth falloff, a shadow
 // edge, an empty corner; 12.6 MB of samples; 2 busy cores, so times vary by up to 2x):
@@ -193,6 +194,8 @@ void encode_tiff(const tc_img *im, std::vector<unsigned char> &bytes) {
     write_memory("tif", spec, TypeDesc::FLOAT, float_samples(im, buf), bytes);
 }
 
+// Every format of the table (format.h) has a case, and there is no default: a format
+// added to the enum without one here fails to compile (-Wswitch, -Werror).
 void encode_any(const tc_img *im, tc_img_format f, std::vector<unsigned char> &bytes) {
     switch (f) {
     case TC_IMG_PNG: return encode_png(im, false, bytes);
@@ -200,8 +203,10 @@ void encode_any(const tc_img *im, tc_img_format f, std::vector<unsigned char> &b
     case TC_IMG_EXR: return encode_exr(im, false, bytes);
     case TC_IMG_EXR_HALF: return encode_exr(im, true, bytes);
     case TC_IMG_TIFF: return encode_tiff(im, bytes);
-    default: throw Failure{"the image plugin does not encode this format"};
+    case TC_IMG_RAW:      // written in C (codec.c), never handed here
+    case TC_IMG_NFORMATS: break;
     }
+    throw Failure{"the image plugin does not encode this format"};
 }
 
 // A malloc()ed copy (never empty), so that C frees it with free().
@@ -269,7 +274,7 @@ void decode_any(const unsigned char *data, size_t len, tc_img_decoded *out) {
 
 } // namespace
 
-// ---- the C interface resolved by load.c -------------------------------------------
+// ---- the C interface resolved by plugin.c -------------------------------------------
 
 TC_EXPORT int tc_img_plugin_abi(void) { return TC_IMG_PLUGIN_ABI; }
 

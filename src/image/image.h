@@ -1,23 +1,15 @@
-/* image.h — encoding rendered tiles into image files in memory (OpenImageIO),
- * behind a C interface; the implementation is loaded only when first used. */
+/* image.h — encoding rendered tiles into image files in memory (codec.c; OpenImageIO
+ * behind a C interface, loaded only when first used: plugin.c, encode.cpp). */
 #ifndef TC_IMAGE_H
 #define TC_IMAGE_H
 
 #include <stddef.h>
 
+#include "image/format.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef enum {
-    TC_IMG_PNG = 0,  /* 8-bit, exposure + sRGB transfer */
-    TC_IMG_PNG16,    /* 16-bit, exposure + sRGB transfer */
-    TC_IMG_EXR,      /* OpenEXR, 32-bit float, linear */
-    TC_IMG_EXR_HALF, /* OpenEXR, 16-bit half, linear */
-    TC_IMG_TIFF,     /* TIFF, 32-bit float, linear */
-    TC_IMG_RAW,      /* little-endian float32, no header, linear */
-    TC_IMG_NFORMATS
-} tc_img_format;
 
 typedef struct {
     int width, height;
@@ -28,16 +20,10 @@ typedef struct {
     int linear;           /* PNG only: 1 = no sRGB transfer (default 0: sRGB) */
 } tc_img;
 
-/* Names as in requests ("png", "png16", "exr", "exr-half", "tiff", "raw"). */
-const char *tc_img_format_name(tc_img_format f);
-int tc_img_format_parse(const char *name, tc_img_format *out); /* 0, or -1 if unknown */
-const char *tc_img_mime(tc_img_format f);
-/* The format an Accept header asks for, or -1 (no preference we can serve). */
-int tc_img_format_from_accept(const char *accept);
-
-/* Encodes the image in memory. On success returns 0 and *out (free with
- * tc_img_free) holds *len bytes. On failure returns -1 with a message in err
- * (e.g. PNG with 2 data channels, the image library not installed). Thread-safe. */
+/* Encodes the image in memory as format f (format.h). On success returns 0 and
+ * *out (free with tc_img_free) holds *len bytes. On failure returns -1 with a
+ * message in err (e.g. PNG with 2 data channels, the image library not
+ * installed). Thread-safe. */
 int tc_img_encode(const tc_img *im, tc_img_format f, unsigned char **out, size_t *len, char *err, size_t errlen);
 void tc_img_free(unsigned char *p);
 
@@ -66,15 +52,15 @@ typedef struct {
 int tc_img_decode(const unsigned char *data, size_t len, tc_img_decoded *out, char *err, size_t errlen);
 void tc_img_decoded_free(tc_img_decoded *d);
 
-/* ---- The contract between load.c and the plugin built from encode.cpp ---- */
+/* ---- The contract between codec.c / plugin.c and the plugin built from encode.cpp ---- */
 
 /* The plugin's tc_img_plugin_abi() must return this: bump it whenever tc_img,
  * tc_img_decoded or the signatures below change, so a stale installed plugin is
  * refused instead of misreading the structs. */
 #define TC_IMG_PLUGIN_ABI 1
 
-/* Resolved with dlsym. Inputs are already validated by load.c (dimensions,
- * channel counts, formats other than raw); *out is malloc()ed, so tc_img_free
+/* Resolved with dlsym (plugin.c). Inputs are already validated by codec.c
+ * (dimensions, channel counts, formats the plugin writes); *out is malloc()ed, so tc_img_free
  * is free() whichever side produced it. */
 typedef int (*tc_img_plugin_abi_fn)(void);
 typedef int (*tc_img_encode_impl_fn)(const tc_img *im, tc_img_format f, unsigned char **out, size_t *len,

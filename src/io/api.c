@@ -2,9 +2,9 @@
  * endpoint. The CLI and the daemon both call these, so their output is one. */
 #include <math.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "image/image.h"
+#include "io/accept.h"
 #include "io/api.h"
 #include "io/jsonout.h"
 #include "io/request.h"
@@ -23,15 +23,9 @@ void tc_api_result_init(tc_api_result *res) {
 
 void tc_api_result_free(tc_api_result *res) { tc_diags_free(&res->diags); }
 
-double tc_api_now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
 /* Adds the time since *t0 to phase p and restarts the clock. */
 static void lap(tc_api_result *res, int p, double *t0) {
-    double t = tc_api_now_ms();
+    double t = tc_now_ms();
     res->ms[p] += t - *t0;
     *t0 = t;
 }
@@ -40,7 +34,7 @@ static int status_of_request(int rs) {
     return rs == TC_REQ_MALFORMED ? 400 : rs == TC_REQ_INVALID ? 422 : 500;
 }
 
-static int status_of_core(int st) { return st == TC_EINVAL ? 422 : st == TC_ELIMIT ? 413 : 500; }
+static int status_of_core(int rc) { return rc == TC_EINVAL ? 422 : rc == TC_ELIMIT ? 413 : 500; }
 
 /* Everything a request needs up to a built reconstruction. */
 typedef struct {
@@ -65,18 +59,18 @@ static int over(tc_api_result *res, const char *field, int64_t n, int64_t max, c
 }
 
 /* The triangles a request's mesh becomes: a quad counts as the two it is split into. */
-static int64_t triangle_count(const tc_request *q) {
-    return q->desc.ntris > 0 ? q->desc.ntris : 2 * (int64_t)q->desc.nquads;
+static int64_t triangle_count(const tc_request *req) {
+    return req->desc.ntris > 0 ? req->desc.ntris : 2 * (int64_t)req->desc.nquads;
 }
 
-static int within_limits(const tc_request *q, const tc_api_limits *lim, tc_api_result *res) {
+static int within_limits(const tc_request *req, const tc_api_limits *lim, tc_api_result *res) {
     if (!lim) return 1;
-    int quads = q->desc.ntris <= 0 && q->desc.nquads > 0;
-    return !over(res, "vertices", q->desc.nverts, lim->max_vertices, "vertices") &&
-           !over(res, quads ? "quads" : "triangles", triangle_count(q), lim->max_triangles,
+    int quads = req->desc.ntris <= 0 && req->desc.nquads > 0;
+    return !over(res, "vertices", req->desc.nverts, lim->max_vertices, "vertices") &&
+           !over(res, quads ? "quads" : "triangles", triangle_count(req), lim->max_triangles,
                  quads ? "triangles (2 per quad)" : "triangles") &&
-           !over(res, "points", (int64_t)q->npoints, lim->max_points, "points") &&
-           !over(res, "reference.points", (int64_t)q->nreference, lim->max_points, "reference points");
+           !over(res, "points", (int64_t)req->npoints, lim->max_points, "points") &&
+           !over(res, "reference.points", (int64_t)req->nreference, lim->max_points, "reference points");
 }
 
 static int job_build(job *j, const char *body, size_t len, unsigned expect, const tc_api_limits *lim,
@@ -85,12 +79,12 @@ static int job_build(job *j, const char *body, size_t len, unsigned expect, cons
     lap(res, TC_PHASE_PARSE, t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
     if (!within_limits(j->req, lim, res)) return res->status;
-    int st = tc_mesh_new(&j->req->desc, &j->mesh, &res->diags);
+    int rc = tc_mesh_new(&j->req->desc, &j->mesh, &res->diags);
     lap(res, TC_PHASE_VALIDATE, t0);
-    if (st != TC_OK) return res->status = status_of_core(st);
-    st = tc_recon_new(j->mesh, &j->req->opt, &j->recon, &res->diags);
+    if (rc != TC_OK) return res->status = status_of_core(rc);
+    rc = tc_recon_new(j->mesh, &j->req->opt, &j->recon, &res->diags);
     lap(res, TC_PHASE_BUILD, t0);
-    if (st != TC_OK) return res->status = status_of_core(st);
+    if (rc != TC_OK) return res->status = status_of_core(rc);
     res->triangles = triangle_count(j->req);
     return res->status = 200;
 }
@@ -109,7 +103,7 @@ static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
 }
 
 int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    double t0 = tc_now_ms();
     job j = {0};
     if (job_build(&j, body, len, TC_REQ_MESH, lim, res, &t0) != 200) {
         job_free(&j);
@@ -120,9 +114,9 @@ int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_
     tc_strbuf_putc(&b, '{');
     tc_json_ordinates(&b, j.recon);
     job_free(&j);
-    int st = finish(out, &b, res);
+    int rc = finish(out, &b, res);
     lap(res, TC_PHASE_ENCODE, &t0);
-    return st;
+    return rc;
 }
 
 /* Locates and evaluates the points; writes the response members. */
@@ -133,20 +127,20 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b) {
     double *val = malloc((n ? n : 1) * nc * sizeof *val);
     double *grad = pts->with_gradients ? malloc((n ? n : 1) * 2 * nc * sizeof *grad) : NULL;
     int32_t *tri = malloc((n ? n : 1) * sizeof *tri);
-    int st = !val || !tri || (pts->with_gradients && !grad) ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
-    if (st == TC_OK) {
+    int rc = !val || !tri || (pts->with_gradients && !grad) ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
+    if (rc == TC_OK) {
         tc_eval_points(j->recon, L, n, pts->points, val, grad, tri);
         tc_strbuf_putc(b, '{');
         tc_json_points(b, nc, n, val, grad, tri, j->req->values_plain);
     }
     tc_locator_free(L);
     free(val), free(grad), free(tri);
-    return st;
+    return rc;
 }
 
 int tc_api_evaluate(const char *body, size_t len, const char *points, size_t plen, const tc_api_limits *lim,
                     tc_strbuf *out, tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    double t0 = tc_now_ms();
     job j = {0};
     tc_request *pts = NULL;
     unsigned expect = points ? TC_REQ_MESH : TC_REQ_MESH | TC_REQ_POINTS;
@@ -169,9 +163,9 @@ int tc_api_evaluate(const char *body, size_t len, const char *points, size_t ple
         tc_strbuf_free(&b);
         return res->status;
     }
-    int st = finish(out, &b, res);
+    int rc = finish(out, &b, res);
     lap(res, TC_PHASE_ENCODE, &t0);
-    return st;
+    return rc;
 }
 
 void tc_api_problem_write(tc_strbuf *out, int status, const char *type, const char *title, const tc_diags *d) {
@@ -221,41 +215,42 @@ typedef struct {
 
 static void tile_free(tile *t) { free(t->values), free(t->alpha), free(t->owner); }
 
-static int format_of(const tc_request *q, const char *accept) {
-    int f = q->format >= 0 ? q->format : accept ? tc_img_format_from_accept(accept) : -1;
-    return f >= 0 ? f : TC_IMG_PNG;
+/* The request's "format", else the caller's (an Accept header, a file's extension), else the default. */
+static int format_of(const tc_request *req, int fallback) {
+    int f = req->format >= 0 ? req->format : fallback;
+    return f >= 0 ? f : TC_IMG_DEFAULT;
 }
 
 /* Rasterizes the request's viewport into t; returns a core status. */
 static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
-    const tc_request *q = j->req;
-    const tc_viewport *vp = &q->viewport;
+    const tc_request *req = j->req;
+    const tc_viewport *vp = &req->viewport;
     size_t np = (size_t)vp->width * vp->height, nc = (size_t)tc_mesh_channel_count(j->mesh);
     tc_locator *L = NULL;
     t->values = malloc(np * nc * sizeof *t->values);
     t->alpha = malloc(np * sizeof *t->alpha);
     t->owner = malloc(np * sizeof *t->owner);
-    int st = !t->values || !t->alpha || !t->owner ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
-    if (st == TC_OK) {
-        tc_render_options o = {q->has_background ? q->background : NULL, lim ? lim->render_threads : 1,
+    int rc = !t->values || !t->alpha || !t->owner ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
+    if (rc == TC_OK) {
+        tc_render_options ropt = {req->has_background ? req->background : NULL, lim ? lim->render_threads : 1,
                                lim ? lim->deadline_ms : 0};
-        st = tc_render(j->recon, L, vp, &o, t->values, t->owner);
+        rc = tc_render(j->recon, L, vp, &ropt, t->values, t->owner);
     }
     tc_locator_free(L);
-    if (st != TC_OK) return st;
+    if (rc != TC_OK) return rc;
     for (size_t p = 0; p < np; p++) t->alpha[p] = t->owner[p] >= 0 ? 1.0f : 0.0f;
-    if (q->overlay) /* PNG shows v * 2^exposure: scale the overlay so it shows as drawn */
-        tc_render_overlay(j->recon, vp, fmt == TC_IMG_PNG || fmt == TC_IMG_PNG16 ? pow(2, -q->exposure) : 1, t->values);
+    if (req->overlay) /* a display-referred format shows v * 2^exposure: scale the overlay so it shows as drawn */
+        tc_render_overlay(j->recon, vp, tc_img_traits_of((tc_img_format)fmt)->display ? pow(2, -req->exposure) : 1,
+                          t->values);
     return TC_OK;
 }
 
 static int encode(const job *j, int fmt, const tile *t, tc_strbuf *out, tc_api_result *res) {
-    const tc_request *q = j->req;
+    const tc_request *req = j->req;
     int nc = tc_mesh_channel_count(j->mesh);
-    /* raw has no alpha; TIFF cannot mark alpha on 2 channels (3 samples read as RGB). */
-    int alpha = fmt != TC_IMG_RAW && !(fmt == TC_IMG_TIFF && nc == 2);
-    tc_img im = {q->viewport.width, q->viewport.height, nc, t->values, alpha ? t->alpha : NULL, q->exposure,
-                 q->linear};
+    int alpha = tc_img_has_alpha((tc_img_format)fmt, nc);
+    tc_img im = {req->viewport.width, req->viewport.height, nc, t->values, alpha ? t->alpha : NULL, req->exposure,
+                 req->linear};
     unsigned char *bytes = NULL;
     size_t n = 0;
     char err[256];
@@ -269,12 +264,16 @@ static int encode(const job *j, int fmt, const tile *t, tc_strbuf *out, tc_api_r
     return res->status = out->oom ? 500 : 200;
 }
 
-/* PNG holds grey or RGB only: refuse other channel counts before any work. */
+/* A format that cannot hold the mesh's channel count (PNG: grey or RGB only) is
+ * refused before any work. */
 static int check_format(const job *j, int fmt, tc_api_result *res) {
     int nc = tc_mesh_channel_count(j->mesh);
-    if ((fmt == TC_IMG_PNG || fmt == TC_IMG_PNG16) && nc != 1 && nc != 3) {
-        tc_diags_add(&res->diags, TC_SEV_ERROR, "format",
-                     "%s holds 1 or 3 channels; this mesh has %d (use exr, tiff or raw)", tc_img_format_name(fmt), nc);
+    char counts[96], use[96];
+    if (!tc_img_holds((tc_img_format)fmt, nc)) {
+        tc_img_format f = (tc_img_format)fmt;
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "format", "%s holds %s channels; this mesh has %d (use %s)",
+                     tc_img_format_name(f), tc_img_list_channels(f, counts, sizeof counts), nc,
+                     tc_img_list_holding(nc, 0, use, sizeof use));
         return res->status = 422;
     }
     return 200;
@@ -282,21 +281,26 @@ static int check_format(const job *j, int fmt, tc_api_result *res) {
 
 int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
                   tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    return tc_api_render_as(body, len, tc_accept_format(accept), lim, out, res);
+}
+
+int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_limits *lim, tc_strbuf *out,
+                     tc_api_result *res) {
+    double t0 = tc_now_ms();
     job j = {0};
     tile t = {0};
     if (job_build(&j, body, len, TC_REQ_MESH | TC_REQ_VIEWPORT, lim, res, &t0) == 200) {
-        int fmt = format_of(j.req, accept);
+        int fmt = format_of(j.req, fallback);
         const tc_viewport *vp = &j.req->viewport;
         int64_t np = (int64_t)vp->width * vp->height;
         if (!over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") && check_format(&j, fmt, res) == 200) {
-            int st = rasterize(&j, lim, fmt, &t);
+            int rc = rasterize(&j, lim, fmt, &t);
             lap(res, TC_PHASE_EVALUATE, &t0);
-            res->pixels = st == TC_OK ? np : 0;
-            if (st == TC_ETIMEOUT)
+            res->pixels = rc == TC_OK ? np : 0;
+            if (rc == TC_ETIMEOUT)
                 tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while rendering");
-            res->status = st == TC_OK ? 200 : st == TC_ETIMEOUT ? 503 : st == TC_EINVAL ? 422 : 500;
-            if (st == TC_OK) encode(&j, fmt, &t, out, res);
+            res->status = rc == TC_OK ? 200 : rc == TC_ETIMEOUT ? 503 : rc == TC_EINVAL ? 422 : 500;
+            if (rc == TC_OK) encode(&j, fmt, &t, out, res);
             lap(res, TC_PHASE_ENCODE, &t0);
         }
     }
@@ -313,19 +317,19 @@ static void compare_member_number(tc_strbuf *b, const char *name, double x) {
 }
 
 /* One method: build it, compare it at the reference points, write its entry. */
-static void compare_one(const job *j, const tc_locator *L, const tc_options *o, tc_strbuf *b, tc_api_result *res,
+static void compare_one(const job *j, const tc_locator *L, const tc_options *opt, tc_strbuf *b, tc_api_result *res,
                         double *t0) {
-    const tc_request *q = j->req;
+    const tc_request *req = j->req;
     tc_recon *r = NULL;
     tc_diags dg;
     tc_diags_init(&dg);
     tc_strbuf_putc(b, '{');
-    tc_json_options(b, o);
-    double t_build = tc_api_now_ms();
-    int st = tc_recon_new(j->mesh, o, &r, &dg);
-    double build_ms = tc_api_now_ms() - t_build;
+    tc_json_options(b, opt);
+    double t_build = tc_now_ms();
+    int rc = tc_recon_new(j->mesh, opt, &r, &dg);
+    double build_ms = tc_now_ms() - t_build;
     lap(res, TC_PHASE_BUILD, t0);
-    if (st != TC_OK) {
+    if (rc != TC_OK) {
         tc_strbuf_puts(b, ",\"error\":{\"path\":");
         tc_strbuf_json_string(b, dg.count ? dg.items[0].path : "");
         tc_strbuf_puts(b, ",\"message\":");
@@ -333,9 +337,9 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
         tc_strbuf_puts(b, "}}");
     } else {
         tc_error_stats e;
-        double t_eval = tc_api_now_ms();
-        tc_compare(r, L, q->nreference, q->reference_points, q->reference_values, q->reference_scale, &e);
-        double eval_ms = tc_api_now_ms() - t_eval;
+        double t_eval = tc_now_ms();
+        tc_compare(r, L, req->nreference, req->reference_points, req->reference_values, req->reference_scale, &e);
+        double eval_ms = tc_now_ms() - t_eval;
         lap(res, TC_PHASE_EVALUATE, t0);
         compare_member_number(b, "build_ms", build_ms);
         compare_member_number(b, "evaluate_ms", eval_ms);
@@ -350,34 +354,34 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *o, 
 }
 
 int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
-    double t0 = tc_api_now_ms();
+    double t0 = tc_now_ms();
     job j = {0};
     int rs = tc_request_parse(body, len, TC_REQ_MESH | TC_REQ_REFERENCE, &j.req, &res->diags);
     lap(res, TC_PHASE_PARSE, &t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
     tc_locator *L = NULL;
-    int st = within_limits(j.req, lim, res) ? tc_mesh_new(&j.req->desc, &j.mesh, &res->diags) : -1;
-    if (st == TC_OK) st = tc_locator_new(j.mesh, &L);
+    int rc = within_limits(j.req, lim, res) ? tc_mesh_new(&j.req->desc, &j.mesh, &res->diags) : -1;
+    if (rc == TC_OK) rc = tc_locator_new(j.mesh, &L);
     lap(res, TC_PHASE_VALIDATE, &t0);
-    if (st == TC_OK) {
+    if (rc == TC_OK) {
         tc_strbuf b;
         tc_strbuf_init(&b);
         tc_strbuf_printf(&b, "{\"channels\":%d,\"reference_points\":%zu,\"results\":[", j.req->desc.nchan,
                          j.req->nreference);
         int n = j.req->nmethods ? j.req->nmethods : tc_method_count(); /* default: every method */
         for (int i = 0; i < n; i++) {
-            tc_options o = j.req->opt;
-            if (j.req->nmethods) o = j.req->methods[i];
-            else o.method = (tc_method)i;
+            tc_options opt = j.req->opt;
+            if (j.req->nmethods) opt = j.req->methods[i];
+            else opt.method = (tc_method)i;
             if (i) tc_strbuf_putc(&b, ',');
-            compare_one(&j, L, &o, &b, res, &t0);
+            compare_one(&j, L, &opt, &b, res, &t0);
         }
         tc_strbuf_putc(&b, ']');
         res->triangles = (int64_t)n * triangle_count(j.req);
         finish(out, &b, res);
         lap(res, TC_PHASE_ENCODE, &t0);
-    } else if (st > 0) {
-        res->status = status_of_core(st);
+    } else if (rc > 0) {
+        res->status = status_of_core(rc);
     }
     tc_locator_free(L);
     job_free(&j);

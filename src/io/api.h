@@ -17,7 +17,7 @@ extern const char *const tc_phase_names[TC_NPHASES];
 typedef struct {
     int64_t max_vertices, max_triangles, max_points, max_pixels;
     int render_threads;  /* worker threads for one render (>= 1) */
-    double deadline_ms;  /* CLOCK_MONOTONIC time (tc_api_now_ms) after which work stops; 0 = none */
+    double deadline_ms;  /* tc_now_ms() time after which work stops; 0 = none */
 } tc_api_limits;
 
 typedef struct {
@@ -31,7 +31,6 @@ typedef struct {
     const char *content_type; /* of the 200 body: "application/json" or an image type */
 } tc_api_result;
 
-double tc_api_now_ms(void);
 void tc_api_result_init(tc_api_result *res);
 void tc_api_result_free(tc_api_result *res);
 
@@ -45,10 +44,15 @@ int tc_api_evaluate(const char *body, size_t len, const char *points, size_t ple
                     tc_strbuf *out, tc_api_result *res);
 
 /* POST /v1/render: mesh + "viewport" {x0,y0,x1,y1,width,height} + "format"
- * (else from the Accept header, else png) + "exposure", "overlay", "background",
- * "linear". On 200 `out` holds the encoded image, res->content_type its type. */
+ * (else the one the Accept header asks for, io/accept.h, else png) + "exposure",
+ * "overlay", "background", "linear". On 200 `out` holds the encoded image,
+ * res->content_type its type. */
 int tc_api_render(const char *body, size_t len, const char *accept, const tc_api_limits *lim, tc_strbuf *out,
                   tc_api_result *res);
+/* The same with the format for a request without "format" given directly: a
+ * tc_img_format (the CLI's output extension), or -1 for the default. */
+int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_limits *lim, tc_strbuf *out,
+                     tc_api_result *res);
 
 /* POST /v1/compare: mesh + "reference" {points, values, scale} + "methods"
  * (names or option objects; default every method) -> for each method its

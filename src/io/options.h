@@ -35,7 +35,7 @@ typedef struct {
                                     * 0 = every method (the method itself) */
 } tc_opt;
 
-/* At most this many rows (request.c sizes its member lists with it). */
+/* At most this many rows (request.c and request_options.c size their member lists with it). */
 #define TC_OPT_MAX 32
 
 extern const tc_opt tc_opts[];

@@ -249,7 +249,7 @@ int tc__scene_adaptive(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuil
     if ((int64_t)q.N * q.N * 8 > TC__SCENE_MAX_TRIS) q.status = TC_ELIMIT;
     if (q.status == TC_OK) refine(&q);
     if (q.status == TC_OK) emit(&q, b);
-    int st = q.status != TC_OK ? q.status : b->oom ? TC_ENOMEM : TC_OK;
+    int rc = q.status != TC_OK ? q.status : b->oom ? TC_ENOMEM : TC_OK;
     free(q.nodes), free(q.map.key), free(q.map.val), free(q.map.vid);
-    return st;
+    return rc;
 }

@@ -213,8 +213,8 @@ static int fan_faces(const tc__dm_graph *g, const uint8_t *on_event, tc__mbuild 
     int32_t nh = 2 * g->ne, outside = 0;
     face f = {g, on_event, b, malloc((size_t)nh * sizeof *f.w), 0, malloc((size_t)nh * sizeof *f.corner), 0};
     uint8_t *seen = calloc((size_t)nh, 1);
-    int st = f.w && f.corner && seen ? star_build(g, &S) : TC_ENOMEM;
-    for (int32_t h0 = 0; st == TC_OK && h0 < nh; h0++) {
+    int rc = f.w && f.corner && seen ? star_build(g, &S) : TC_ENOMEM;
+    for (int32_t h0 = 0; rc == TC_OK && h0 < nh; h0++) {
         if (seen[h0]) continue;
         f.m = 0;
         for (int32_t h = h0; !seen[h]; h = next_of(g, &S, h)) seen[h] = 1, f.w[f.m++] = origin(g, h);
@@ -225,12 +225,12 @@ static int fan_faces(const tc__dm_graph *g, const uint8_t *on_event, tc__mbuild 
         f.nc = 0;
         for (int32_t i = 0; i < f.m; i++)
             if (turns(&f, i)) f.corner[f.nc++] = i;
-        st = fan(&f);
+        rc = fan(&f);
     }
-    if (st == TC_OK && outside != 1) st = TC_EINVAL; /* not connected: cannot happen after unreflex */
+    if (rc == TC_OK && outside != 1) rc = TC_EINVAL; /* not connected: cannot happen after unreflex */
     star_free(&S);
     free(f.w), free(f.corner), free(seen);
-    return st;
+    return rc;
 }
 
 /* ---- output ----------------------------------------------------------------------------- */
@@ -282,9 +282,9 @@ static int emit_lines(const tc__dm_graph *g, const tc__dm_seg *segs, int nseg, t
     piece *pc = malloc(((size_t)g->ne + 1) * sizeof *pc);
     int32_t *run = malloc(((size_t)g->ne + 2) * sizeof *run);
     for (int s = 0; pc && run && s < nseg; s++) segment_lines(g, segs, s, pc, run, b);
-    int st = pc && run ? TC_OK : TC_ENOMEM;
+    int rc = pc && run ? TC_OK : TC_ENOMEM;
     free(pc), free(run);
-    return st;
+    return rc;
 }
 
 /* Puts the vertices on the receiver's sides back on them exactly: turning
@@ -335,16 +335,17 @@ int tc__scene_dm(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild *b) 
     tc__dm_seg segs[4 + TC_SCENE_MAX_EVENTS];
     int nseg = segments(s, o->rotation, segs);
     tc__dm_graph g = {0};
-    int st = tc__dm_arrange(&g, segs, nseg);
-    if (st == TC_OK) st = tc__dm_unreflex(&g);
-    if (st == TC_OK) st = tc__dm_subdivide(&g, fmax(s->domain[2] - s->domain[0], s->domain[3] - s->domain[1]) / o->density);
-    if (st == TC_OK && 2 * (int64_t)g.ne > TC__SCENE_MAX_TRIS) st = TC_ELIMIT;
-    uint8_t *on_event = st == TC_OK ? event_vertices(&g) : NULL;
-    if (st == TC_OK && !on_event) st = TC_ENOMEM;
-    if (st == TC_OK) st = emit_vertices(s, &g, o->rotation, b);
-    if (st == TC_OK) st = fan_faces(&g, on_event, b);
-    if (st == TC_OK) st = emit_lines(&g, segs, nseg, b);
+    int rc = tc__dm_arrange(&g, segs, nseg);
+    if (rc == TC_OK) rc = tc__dm_unreflex(&g);
+    double extent = fmax(s->domain[2] - s->domain[0], s->domain[3] - s->domain[1]);
+    if (rc == TC_OK) rc = tc__dm_subdivide(&g, extent / o->density);
+    if (rc == TC_OK && 2 * (int64_t)g.ne > TC__SCENE_MAX_TRIS) rc = TC_ELIMIT;
+    uint8_t *on_event = rc == TC_OK ? event_vertices(&g) : NULL;
+    if (rc == TC_OK && !on_event) rc = TC_ENOMEM;
+    if (rc == TC_OK) rc = emit_vertices(s, &g, o->rotation, b);
+    if (rc == TC_OK) rc = fan_faces(&g, on_event, b);
+    if (rc == TC_OK) rc = emit_lines(&g, segs, nseg, b);
     free(on_event);
     tc__dm_graph_free(&g);
-    return st == TC_OK && b->oom ? TC_ENOMEM : st;
+    return rc == TC_OK && b->oom ? TC_ENOMEM : rc;
 }

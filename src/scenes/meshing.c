@@ -140,24 +140,24 @@ static int by_value(const void *pa, const void *pb) {
  * the same double wherever it is used. */
 static int axis_lines(const tc_scene *s, int axis, int use_events, int N, coords *out) {
     coords base = {0};
-    int st = coords_add(&base, s->domain[axis]) | coords_add(&base, s->domain[axis + 2]);
-    for (int i = 0; use_events && i < s->nevents && st == 0; i++) {
+    int rc = coords_add(&base, s->domain[axis]) | coords_add(&base, s->domain[axis + 2]);
+    for (int i = 0; use_events && i < s->nevents && rc == 0; i++) {
         const tc_scene_event *e = &s->events[i];
-        st = e->axis == axis ? coords_add(&base, e->at) : coords_add(&base, e->lo) | coords_add(&base, e->hi);
+        rc = e->axis == axis ? coords_add(&base, e->at) : coords_add(&base, e->lo) | coords_add(&base, e->hi);
     }
-    if (st == 0) qsort(base.c, (size_t)base.n, sizeof *base.c, by_value);
+    if (rc == 0) qsort(base.c, (size_t)base.n, sizeof *base.c, by_value);
     double len = s->domain[axis + 2] - s->domain[axis];
-    for (int32_t i = 0; st == 0 && i < base.n; i++) {
+    for (int32_t i = 0; rc == 0 && i < base.n; i++) {
         if (i > 0 && base.c[i] == base.c[i - 1]) continue;
         if (i > 0) {
             double a = out->c[out->n - 1], gap = base.c[i] - a;
             int64_t parts = (int64_t)ceil(gap / len * N - 1e-9);
-            for (int64_t k = 1; k < parts && st == 0; k++) st = coords_add(out, a + gap * ((double)k / (double)parts));
+            for (int64_t k = 1; k < parts && rc == 0; k++) rc = coords_add(out, a + gap * ((double)k / (double)parts));
         }
-        if (st == 0) st = coords_add(out, base.c[i]);
+        if (rc == 0) rc = coords_add(out, base.c[i]);
     }
     free(base.c);
-    return st ? TC_ENOMEM : TC_OK;
+    return rc ? TC_ENOMEM : TC_OK;
 }
 
 static int32_t line_index(const coords *k, double x) {
@@ -231,11 +231,11 @@ static void grid_geometry(const grid *g, tc__mbuild *b) {
 static int grid_mesh(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild *b) {
     grid g = {0};
     int disc = o->kind == TC_SCENE_MESH_DISC;
-    int st = axis_lines(s, 0, disc, o->density, &g.xs);
-    if (st == TC_OK) st = axis_lines(s, 1, disc, o->density, &g.ys);
+    int rc = axis_lines(s, 0, disc, o->density, &g.xs);
+    if (rc == TC_OK) rc = axis_lines(s, 1, disc, o->density, &g.ys);
     g.nx = g.xs.n - 1, g.ny = g.ys.n - 1;
-    if (st == TC_OK && 2 * (int64_t)g.nx * g.ny > TC__SCENE_MAX_TRIS) st = TC_ELIMIT;
-    if (st == TC_OK) {
+    if (rc == TC_OK && 2 * (int64_t)g.nx * g.ny > TC__SCENE_MAX_TRIS) rc = TC_ELIMIT;
+    if (rc == TC_OK) {
         g.vflag = malloc((size_t)(g.nx + 1) * (size_t)g.ny);
         g.hflag = malloc((size_t)(g.ny + 1) * (size_t)g.nx);
         int32_t *run = malloc((size_t)(g.nx > g.ny ? g.nx : g.ny) * sizeof *run + sizeof *run);
@@ -246,12 +246,12 @@ static int grid_mesh(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild 
             grid_geometry(&g, b);
             grid_polylines(&g, b, run);
         } else {
-            st = TC_ENOMEM;
+            rc = TC_ENOMEM;
         }
         free(run);
     }
     free(g.xs.c), free(g.ys.c), free(g.vflag), free(g.hflag);
-    return st == TC_OK && b->oom ? TC_ENOMEM : st;
+    return rc == TC_OK && b->oom ? TC_ENOMEM : rc;
 }
 
 /* ---- entry points ---------------------------------------------------------------- */
@@ -274,21 +274,21 @@ static int check_opts(const tc_scene_mesh_opts *o) { return tc_scene_mesh_opts_c
 
 int tc_scene_mesh_new(const tc_scene *s, const tc_scene_mesh_opts *o, tc_scene_mesh **out) {
     *out = NULL;
-    int st = check_opts(o);
-    if (st != TC_OK) return st;
+    int rc = check_opts(o);
+    if (rc != TC_OK) return rc;
     tc_scene_mesh *m = calloc(1, sizeof *m);
     if (m) tc_mesh_desc_init(&m->desc); /* the defaults a front-end sends */
     if (!m) return TC_ENOMEM;
     tc__mbuild b;
     tc__mb_init(&b);
-    st = o->kind == TC_SCENE_MESH_ADAPTIVE ? tc__scene_adaptive(s, o, &b)
+    rc = o->kind == TC_SCENE_MESH_ADAPTIVE ? tc__scene_adaptive(s, o, &b)
          : o->kind == TC_SCENE_MESH_DM    ? tc__scene_dm(s, o, &b)
                                           : grid_mesh(s, o, &b);
-    if (st == TC_OK) st = tc__scene_sample(s, o, &b, m);
+    if (rc == TC_OK) rc = tc__scene_sample(s, o, &b, m);
     tc__mb_free(&b);
-    if (st != TC_OK) {
+    if (rc != TC_OK) {
         tc_scene_mesh_free(m);
-        return st;
+        return rc;
     }
     *out = m;
     return TC_OK;

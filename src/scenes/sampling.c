@@ -63,9 +63,9 @@ static int build_edges(ctx *c) {
     int32_t *ids = malloc(cap * sizeof *ids);
     c->e = malloc(3 * (size_t)b->nt * sizeof *c->e);
     c->tri_edge = malloc(3 * (size_t)b->nt * sizeof *c->tri_edge);
-    int st = keys && ids && c->e && c->tri_edge ? TC_OK : TC_ENOMEM;
-    if (st == TC_OK) memset(keys, 0xff, cap * sizeof *keys);
-    for (int32_t t = 0; st == TC_OK && t < b->nt; t++)
+    int rc = keys && ids && c->e && c->tri_edge ? TC_OK : TC_ENOMEM;
+    if (rc == TC_OK) memset(keys, 0xff, cap * sizeof *keys);
+    for (int32_t t = 0; rc == TC_OK && t < b->nt; t++)
         for (int k = 0; k < 3; k++) {
             int32_t p = b->tri[3 * t + k], q = b->tri[3 * t + (k + 1) % 3];
             uint64_t key = edge_key(p, q);
@@ -80,7 +80,7 @@ static int build_edges(ctx *c) {
             c->tri_edge[3 * t + k] = ids[i];
         }
     free(keys), free(ids);
-    return st;
+    return rc;
 }
 
 /* The edge joining a and b, through the corners of a (-1 if none). */
@@ -422,15 +422,15 @@ int tc__scene_sample(const tc_scene *s, const tc_scene_mesh_opts *o, tc__mbuild 
     c.s = s, c.b = b, c.m = m, c.quads = o->quads, c.digits = o->digits;
     /* Without C0 flags the C0 events stay mesh lines but are not sent: they are C1. */
     if (o->no_c0) b->nline[0] = 0, b->nlv[0] = 0;
-    int st = b->nt > 0 ? build_edges(&c) : TC_EINVAL;
-    if (st == TC_OK) st = build_corners(&c);
-    if (st == TC_OK) apply_flags(&c);
-    if (st == TC_OK) st = vertex_values(&c);
-    if (st == TC_OK) st = corner_values(&c);
-    if (st == TC_OK && o->midpoints) st = midpoints(&c);
-    if (st == TC_OK && o->gradients) st = gradients(&c);
-    if (st == TC_OK && c.quads) st = to_quads(&c);
-    if (st == TC_OK) assemble(&c, b);
+    int rc = b->nt > 0 ? build_edges(&c) : TC_EINVAL;
+    if (rc == TC_OK) rc = build_corners(&c);
+    if (rc == TC_OK) apply_flags(&c);
+    if (rc == TC_OK) rc = vertex_values(&c);
+    if (rc == TC_OK) rc = corner_values(&c);
+    if (rc == TC_OK && o->midpoints) rc = midpoints(&c);
+    if (rc == TC_OK && o->gradients) rc = gradients(&c);
+    if (rc == TC_OK && c.quads) rc = to_quads(&c);
+    if (rc == TC_OK) assemble(&c, b);
     free(c.e), free(c.tri_edge), free(c.vstart), free(c.vcorner), free(c.cz);
-    return st;
+    return rc;
 }

@@ -16,9 +16,10 @@
 #include "server/reply.h"
 #include "server/routes.h"
 
-/* What the server knows about one request between the callbacks. */
+/* One HTTP exchange in flight: what the server knows about a request and its
+ * answer between libmicrohttpd's callbacks (the JSON request itself is io's tc_request). */
 typedef struct {
-    double t0; /* tc_api_now_ms() at the first call */
+    double t0; /* tc_now_ms() at the first call */
     const tc_route *route;
     int route_index;
     char method[16];
@@ -32,7 +33,7 @@ typedef struct {
     int queued; /* a response is queued: what follows is for the log and metrics */
     int status;
     size_t bytes;
-} request;
+} exchange;
 
 /* libmicrohttpd 0.9.75 cannot queue a response in the middle of an upload, so
  * a body refused mid-way (a chunked one past the limit) is read and dropped
@@ -45,33 +46,33 @@ static const char oom_problem[] =
     "\"detail\":\"out of memory\",\"path\":\"\",\"error_count\":1,"
     "\"errors\":[{\"path\":\"\",\"message\":\"out of memory\"}],\"warnings\":[]}\n";
 
-static request *request_new(const tc_http_state *st, const char *url, const char *method) {
-    request *q = calloc(1, sizeof *q);
-    if (!q) return NULL;
-    q->path = strdup(url ? url : "");
-    if (!q->path) return free(q), NULL;
-    q->t0 = tc_api_now_ms();
-    snprintf(q->method, sizeof q->method, "%s", method ? method : "");
-    q->route = tc_route_find(q->path, &q->route_index);
-    tc_body_init(&q->body, (size_t)st->cfg->max_body);
-    return q;
+static exchange *exchange_new(const tc_http_state *srv, const char *url, const char *method) {
+    exchange *ex = calloc(1, sizeof *ex);
+    if (!ex) return NULL;
+    ex->path = strdup(url ? url : "");
+    if (!ex->path) return free(ex), NULL;
+    ex->t0 = tc_now_ms();
+    snprintf(ex->method, sizeof ex->method, "%s", method ? method : "");
+    ex->route = tc_route_find(ex->path, &ex->route_index);
+    tc_body_init(&ex->body, (size_t)srv->cfg->max_body);
+    return ex;
 }
 
-static void request_free(request *q) {
-    tc_body_free(&q->body);
-    free(q->path);
-    free(q);
+static void exchange_free(exchange *ex) {
+    tc_body_free(&ex->body);
+    free(ex->path);
+    free(ex);
 }
 
-static void refuse(request *q, tc_problem p, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void refuse(request *q, tc_problem p, const char *fmt, ...) {
+static void refuse(exchange *ex, tc_problem p, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void refuse(exchange *ex, tc_problem p, const char *fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(q->detail, sizeof q->detail, fmt, ap);
+    vsnprintf(ex->detail, sizeof ex->detail, fmt, ap);
     va_end(ap);
-    q->pending = 1;
-    q->problem = p;
-    tc_body_free(&q->body);
+    ex->pending = 1;
+    ex->problem = p;
+    tc_body_free(&ex->body);
 }
 
 static const char *header(struct MHD_Connection *c, const char *name) {
@@ -84,38 +85,38 @@ static int has_body(struct MHD_Connection *c) {
 }
 
 /* The body checks of a POST route, from the headers alone. */
-static void check_body_headers(const tc_http_state *st, struct MHD_Connection *c, request *q) {
+static void check_body_headers(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
     const char *ct = header(c, MHD_HTTP_HEADER_CONTENT_TYPE);
     const char *ce = header(c, MHD_HTTP_HEADER_CONTENT_ENCODING);
     long long len = tc_content_length(header(c, MHD_HTTP_HEADER_CONTENT_LENGTH));
     if (!tc_media_is_json(ct))
-        return refuse(q, TC_PROBLEM_MEDIA_TYPE, "%s takes application/json (UTF-8), not %s", q->path,
+        return refuse(ex, TC_PROBLEM_MEDIA_TYPE, "%s takes application/json (UTF-8), not %s", ex->path,
                       ct ? ct : "a body without Content-Type");
     if (ce && strcasecmp(ce, "identity"))
-        return refuse(q, TC_PROBLEM_MEDIA_TYPE, "Content-Encoding %.64s is not supported; send the body as is", ce);
-    if (len > st->cfg->max_body)
-        return refuse(q, TC_PROBLEM_TOO_LARGE, "the body has %lld bytes; this server accepts at most %lld", len,
-                      st->cfg->max_body);
-    q->keep_body = 1;
-    if (len > 0 && tc_body_reserve(&q->body, (size_t)len))
-        refuse(q, TC_PROBLEM_BUSY, "no memory for a body of %lld bytes now; retry later", len);
+        return refuse(ex, TC_PROBLEM_MEDIA_TYPE, "Content-Encoding %.64s is not supported; send the body as is", ce);
+    if (len > srv->cfg->max_body)
+        return refuse(ex, TC_PROBLEM_TOO_LARGE, "the body has %lld bytes; this server accepts at most %lld", len,
+                      srv->cfg->max_body);
+    ex->keep_body = 1;
+    if (len > 0 && tc_body_reserve(&ex->body, (size_t)len))
+        refuse(ex, TC_PROBLEM_BUSY, "no memory for a body of %lld bytes now; retry later", len);
 }
 
-static void check_headers(const tc_http_state *st, struct MHD_Connection *c, request *q) {
-    if (!q->route) return refuse(q, TC_PROBLEM_NOT_FOUND, "there is no resource at %.200s", q->path);
-    if (!tc_route_allows(q->route, q->method))
-        return refuse(q, TC_PROBLEM_METHOD, "%s answers %s, not %.16s", q->route->path, q->route->allow, q->method);
-    if (atomic_load(&st->draining))
-        return refuse(q, TC_PROBLEM_BUSY, "the server is shutting down; retry on another connection");
-    if (tc_route_takes_body(q->route)) check_body_headers(st, c, q);
+static void check_headers(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
+    if (!ex->route) return refuse(ex, TC_PROBLEM_NOT_FOUND, "there is no resource at %.200s", ex->path);
+    if (!tc_route_allows(ex->route, ex->method))
+        return refuse(ex, TC_PROBLEM_METHOD, "%s answers %s, not %.16s", ex->route->path, ex->route->allow, ex->method);
+    if (atomic_load(&srv->draining))
+        return refuse(ex, TC_PROBLEM_BUSY, "the server is shutting down; retry on another connection");
+    if (tc_route_takes_body(ex->route)) check_body_headers(srv, c, ex);
 }
 
 /* "parse;dur=0.120, ..., encode;dur=0.050, total;dur=1.270" (milliseconds). */
-static void server_timing(const request *q, const tc_api_result *res, char *out, size_t n) {
+static void server_timing(const exchange *ex, const tc_api_result *res, char *out, size_t n) {
     size_t k = 0;
     for (int i = 0; i < TC_NPHASES && k < n; i++)
         k += (size_t)snprintf(out + k, n - k, "%s;dur=%.3f, ", tc_phase_names[i], res->ms[i]);
-    if (k < n) snprintf(out + k, n - k, "total;dur=%.3f", tc_api_now_ms() - q->t0);
+    if (k < n) snprintf(out + k, n - k, "total;dur=%.3f", tc_now_ms() - ex->t0);
 }
 
 /* An image carries no JSON "warnings", so a 200 that is not JSON repeats them
@@ -140,10 +141,10 @@ static void warning_headers(const tc_reply *r, struct MHD_Response *resp) {
     }
 }
 
-static void add_headers(const tc_http_state *st, const request *q, const tc_reply *r, struct MHD_Response *resp,
+static void add_headers(const tc_http_state *srv, const exchange *ex, const tc_reply *r, struct MHD_Response *resp,
                         const char *ctype) {
     char timing[256], retry[16];
-    server_timing(q, &r->res, timing, sizeof timing);
+    server_timing(ex, &r->res, timing, sizeof timing);
     MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, ctype);
     MHD_add_response_header(resp, "Server-Timing", timing);
     if (r->allow) MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, r->allow);
@@ -152,11 +153,11 @@ static void add_headers(const tc_http_state *st, const request *q, const tc_repl
         snprintf(retry, sizeof retry, "%d", r->retry_after);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, retry);
     }
-    if (atomic_load(&st->draining)) MHD_add_response_header(resp, MHD_HTTP_HEADER_CONNECTION, "close");
+    if (atomic_load(&srv->draining)) MHD_add_response_header(resp, MHD_HTTP_HEADER_CONNECTION, "close");
 }
 
 /* Queues r (and frees it). Out of memory for the body degrades to a fixed 500. */
-static enum MHD_Result send_reply(const tc_http_state *st, struct MHD_Connection *c, request *q, tc_reply *r) {
+static enum MHD_Result send_reply(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex, tc_reply *r) {
     size_t len = 0;
     char *buf = tc_strbuf_detach(&r->body, &len);
     int status = buf ? r->status : 500;
@@ -167,15 +168,15 @@ static enum MHD_Result send_reply(const tc_http_state *st, struct MHD_Connection
     if (!buf) len = sizeof oom_problem - 1;
     enum MHD_Result ok = MHD_NO;
     if (resp) {
-        add_headers(st, q, r, resp, ctype);
+        add_headers(srv, ex, r, resp, ctype);
         ok = MHD_queue_response(c, (unsigned)status, resp);
         MHD_destroy_response(resp);
     } else {
         free(buf);
     }
     if (ok == MHD_YES) {
-        q->queued = 1, q->status = status, q->bytes = len;
-        tc_metrics_answered(q->route_index, status, (tc_api_now_ms() - q->t0) * 1e-3, r->res.triangles,
+        ex->queued = 1, ex->status = status, ex->bytes = len;
+        tc_metrics_answered(ex->route_index, status, (tc_now_ms() - ex->t0) * 1e-3, r->res.triangles,
                             r->res.pixels);
     }
     tc_reply_free(r);
@@ -184,55 +185,55 @@ static enum MHD_Result send_reply(const tc_http_state *st, struct MHD_Connection
 
 /* Queues the pending problem. Before the body (first call) libmicrohttpd then
  * reads none of it and closes the connection after the answer. */
-static enum MHD_Result answer_pending(const tc_http_state *st, struct MHD_Connection *c, request *q) {
+static enum MHD_Result answer_pending(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
     tc_reply r;
     tc_reply_init(&r);
-    tc_reply_problem(&r, q->problem, q->detail);
-    if (q->problem == TC_PROBLEM_METHOD) r.allow = q->route->allow;
-    if (q->problem == TC_PROBLEM_BUSY) r.retry_after = 1;
-    return send_reply(st, c, q, &r);
+    tc_reply_problem(&r, ex->problem, ex->detail);
+    if (ex->problem == TC_PROBLEM_METHOD) r.allow = ex->route->allow;
+    if (ex->problem == TC_PROBLEM_BUSY) r.retry_after = 1;
+    return send_reply(srv, c, ex, &r);
 }
 
-static enum MHD_Result first_call(tc_http_state *st, struct MHD_Connection *c, const char *url, const char *method,
+static enum MHD_Result first_call(tc_http_state *srv, struct MHD_Connection *c, const char *url, const char *method,
                                   void **req_cls) {
-    request *q = request_new(st, url, method);
-    if (!q) return MHD_NO; /* no memory even for the bookkeeping: drop the connection */
-    *req_cls = q;
+    exchange *ex = exchange_new(srv, url, method);
+    if (!ex) return MHD_NO; /* no memory even for the bookkeeping: drop the connection */
+    *req_cls = ex;
     tc_metrics_begin();
-    check_headers(st, c, q);
-    if (q->pending && has_body(c)) return answer_pending(st, c, q);
+    check_headers(srv, c, ex);
+    if (ex->pending && has_body(c)) return answer_pending(srv, c, ex);
     return MHD_YES;
 }
 
-static int past_deadline(const tc_srv_config *cfg, const request *q) {
-    return cfg->request_timeout > 0 && tc_api_now_ms() - q->t0 > cfg->request_timeout * 1e3;
+static int past_deadline(const tc_srv_config *cfg, const exchange *ex) {
+    return cfg->request_timeout > 0 && tc_now_ms() - ex->t0 > cfg->request_timeout * 1e3;
 }
 
-static int may_discard(const tc_srv_config *cfg, const request *q) {
-    size_t slack = q->body.limit > DISCARD_MIN ? q->body.limit : DISCARD_MIN;
-    if (q->received > q->body.limit + slack) return 0;
+static int may_discard(const tc_srv_config *cfg, const exchange *ex) {
+    size_t slack = ex->body.limit > DISCARD_MIN ? ex->body.limit : DISCARD_MIN;
+    if (ex->received > ex->body.limit + slack) return 0;
     double late_ms = (cfg->request_timeout + (double)cfg->connection_timeout) * 1e3;
-    return cfg->request_timeout <= 0 || tc_api_now_ms() - q->t0 <= late_ms;
+    return cfg->request_timeout <= 0 || tc_now_ms() - ex->t0 <= late_ms;
 }
 
 /* Collects (or, for a route without a body, counts) upload data. Past the
  * limit (or the deadline) the body is dropped and the problem answered as soon
  * as libmicrohttpd allows. */
-static enum MHD_Result take_data(const tc_http_state *st, struct MHD_Connection *c, request *q, const char *data,
+static enum MHD_Result take_data(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex, const char *data,
                                  size_t *size) {
     size_t n = *size;
     *size = 0;
-    q->received += n;
-    if (q->queued) return MHD_YES;
-    if (q->pending) return may_discard(st->cfg, q) ? MHD_YES : MHD_NO;
-    int r = q->keep_body ? tc_body_append(&q->body, data, n) : q->received > q->body.limit;
-    if (r == 0 && !past_deadline(st->cfg, q)) return MHD_YES;
+    ex->received += n;
+    if (ex->queued) return MHD_YES;
+    if (ex->pending) return may_discard(srv->cfg, ex) ? MHD_YES : MHD_NO;
+    int r = ex->keep_body ? tc_body_append(&ex->body, data, n) : ex->received > ex->body.limit;
+    if (r == 0 && !past_deadline(srv->cfg, ex)) return MHD_YES;
     if (r > 0)
-        refuse(q, TC_PROBLEM_TOO_LARGE, "the body is larger than %lld bytes, the most this server accepts",
-               st->cfg->max_body);
-    else if (r < 0) refuse(q, TC_PROBLEM_BUSY, "no memory for a body of %zu bytes now; retry later", q->received);
-    else refuse(q, TC_PROBLEM_TIMEOUT, "the body took longer than %g s to arrive", st->cfg->request_timeout);
-    answer_pending(st, c, q); /* may be refused mid-upload: then the last call answers */
+        refuse(ex, TC_PROBLEM_TOO_LARGE, "the body is larger than %lld bytes, the most this server accepts",
+               srv->cfg->max_body);
+    else if (r < 0) refuse(ex, TC_PROBLEM_BUSY, "no memory for a body of %zu bytes now; retry later", ex->received);
+    else refuse(ex, TC_PROBLEM_TIMEOUT, "the body took longer than %g s to arrive", srv->cfg->request_timeout);
+    answer_pending(srv, c, ex); /* may be refused mid-upload: then the last call answers */
     return MHD_YES;
 }
 
@@ -246,11 +247,11 @@ static tc_api_limits limits(const tc_srv_config *cfg, double t0) {
 /* Runs the route. The idle timeout is off meanwhile (and restarts after): the
  * work is bounded by the request deadline, and a computation longer than the
  * idle timeout must not cost the answer. */
-static void run(const tc_http_state *st, struct MHD_Connection *c, request *q, tc_reply *r) {
-    tc_route_input in = {q->body.buf ? q->body.buf : "", q->body.len, header(c, MHD_HTTP_HEADER_ACCEPT),
-                         limits(st->cfg, q->t0)};
+static void run(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex, tc_reply *r) {
+    tc_route_input in = {ex->body.buf ? ex->body.buf : "", ex->body.len, header(c, MHD_HTTP_HEADER_ACCEPT),
+                         limits(srv->cfg, ex->t0)};
     long long bad;
-    if (past_deadline(st->cfg, q))
+    if (past_deadline(srv->cfg, ex))
         return tc_reply_problem(r, TC_PROBLEM_TIMEOUT, "the request took too long to arrive");
     if ((bad = tc_utf8_error(in.body, in.len)) >= 0) {
         char detail[96];
@@ -258,34 +259,34 @@ static void run(const tc_http_state *st, struct MHD_Connection *c, request *q, t
         return tc_reply_problem(r, TC_PROBLEM_MALFORMED, detail);
     }
     MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, 0u);
-    q->route->fn(&in, r);
-    MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, (unsigned)st->cfg->connection_timeout);
+    ex->route->fn(&in, r);
+    MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, (unsigned)srv->cfg->connection_timeout);
     /* Not every phase of the API watches the deadline; the answer keeps the promise. */
-    if (r->status < 500 && past_deadline(st->cfg, q)) {
+    if (r->status < 500 && past_deadline(srv->cfg, ex)) {
         char detail[128];
         snprintf(detail, sizeof detail, "the request took %.1f s; this server allows %g s",
-                 (tc_api_now_ms() - q->t0) * 1e-3, st->cfg->request_timeout);
+                 (tc_now_ms() - ex->t0) * 1e-3, srv->cfg->request_timeout);
         tc_reply_problem(r, TC_PROBLEM_TIMEOUT, detail);
     }
 }
 
-static enum MHD_Result last_call(const tc_http_state *st, struct MHD_Connection *c, request *q) {
-    if (q->queued) return MHD_YES;
-    if (q->pending) return answer_pending(st, c, q);
+static enum MHD_Result last_call(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
+    if (ex->queued) return MHD_YES;
+    if (ex->pending) return answer_pending(srv, c, ex);
     tc_reply r;
     tc_reply_init(&r);
-    run(st, c, q, &r);
-    return send_reply(st, c, q, &r);
+    run(srv, c, ex, &r);
+    return send_reply(srv, c, ex, &r);
 }
 
 enum MHD_Result tc_http_access(void *cls, struct MHD_Connection *c, const char *url, const char *method,
                                const char *version, const char *upload_data, size_t *upload_data_size,
                                void **req_cls) {
     (void)version;
-    request *q = *req_cls;
-    if (!q) return first_call(cls, c, url, method, req_cls);
-    if (*upload_data_size) return take_data(cls, c, q, upload_data, upload_data_size);
-    return last_call(cls, c, q);
+    exchange *ex = *req_cls;
+    if (!ex) return first_call(cls, c, url, method, req_cls);
+    if (*upload_data_size) return take_data(cls, c, ex, upload_data, upload_data_size);
+    return last_call(cls, c, ex);
 }
 
 static const char *ending(enum MHD_RequestTerminationCode toe) {
@@ -301,11 +302,11 @@ static const char *ending(enum MHD_RequestTerminationCode toe) {
 
 void tc_http_completed(void *cls, struct MHD_Connection *c, void **req_cls, enum MHD_RequestTerminationCode toe) {
     (void)cls, (void)c;
-    request *q = *req_cls;
-    if (!q) return;
+    exchange *ex = *req_cls;
+    if (!ex) return;
     *req_cls = NULL;
-    double ms = tc_api_now_ms() - q->t0;
-    tc_log_request(q->method, q->path, q->status, q->bytes, ms, ending(toe));
-    tc_metrics_end(q->route_index, q->queued);
-    request_free(q);
+    double ms = tc_now_ms() - ex->t0;
+    tc_log_request(ex->method, ex->path, ex->status, ex->bytes, ms, ending(toe));
+    tc_metrics_end(ex->route_index, ex->queued);
+    exchange_free(ex);
 }

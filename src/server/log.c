@@ -34,12 +34,12 @@ static void emit(const char *line, int len) {
 }
 
 void tc_log_request(const char *method, const char *path, int status, size_t bytes, double ms, const char *note) {
-    char m[40], p[PATH_SHOWN + 8], st[16], line[LINE_MAX_BYTES];
+    char m[40], p[PATH_SHOWN + 8], code[16], line[LINE_MAX_BYTES];
     escape(method ? method : "-", m, sizeof m);
     escape(path ? path : "-", p, sizeof p);
-    if (status > 0) snprintf(st, sizeof st, "%d", status);
-    else strcpy(st, "-");
-    int n = snprintf(line, sizeof line - 1, "%s %s %s %zu %.2fms%s%s%s\n", m, p, st, bytes, ms, note ? " (" : "",
+    if (status > 0) snprintf(code, sizeof code, "%d", status);
+    else strcpy(code, "-");
+    int n = snprintf(line, sizeof line - 1, "%s %s %s %zu %.2fms%s%s%s\n", m, p, code, bytes, ms, note ? " (" : "",
                      note ? note : "", note ? ")" : "");
     if (n >= (int)sizeof line - 1) line[sizeof line - 2] = '\n', n = sizeof line - 1;
     emit(line, n);

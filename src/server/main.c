@@ -38,11 +38,11 @@ static void init_metrics(void) {
 /* Waits until no request is in flight, the grace period is over, or a second
  * signal asks to stop at once. */
 static void drain(const sigset_t *sigs, double grace_s) {
-    double end = tc_api_now_ms() + grace_s * 1e3;
+    double end = tc_now_ms() + grace_s * 1e3;
     const struct timespec tick = {0, 20 * 1000 * 1000};
     long n;
     while ((n = tc_metrics_in_flight()) > 0) {
-        if (tc_api_now_ms() >= end) {
+        if (tc_now_ms() >= end) {
             tc_log_notice("grace period over with %ld request(s) in flight; stopping", n);
             return;
         }

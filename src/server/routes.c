@@ -47,23 +47,23 @@ static void api_reply(int status, int json, tc_reply *out) {
 }
 
 static void ordinates(const tc_route_input *in, tc_reply *out) {
-    int st = tc_api_ordinates(in->body, in->len, &in->lim, &out->body, &out->res);
-    api_reply(st, 1, out);
+    int rc = tc_api_ordinates(in->body, in->len, &in->lim, &out->body, &out->res);
+    api_reply(rc, 1, out);
 }
 
 static void evaluate(const tc_route_input *in, tc_reply *out) {
-    int st = tc_api_evaluate(in->body, in->len, NULL, 0, &in->lim, &out->body, &out->res);
-    api_reply(st, 1, out);
+    int rc = tc_api_evaluate(in->body, in->len, NULL, 0, &in->lim, &out->body, &out->res);
+    api_reply(rc, 1, out);
 }
 
 static void render(const tc_route_input *in, tc_reply *out) {
-    int st = tc_api_render(in->body, in->len, in->accept, &in->lim, &out->body, &out->res);
-    api_reply(st, 0, out);
+    int rc = tc_api_render(in->body, in->len, in->accept, &in->lim, &out->body, &out->res);
+    api_reply(rc, 0, out);
 }
 
 static void compare(const tc_route_input *in, tc_reply *out) {
-    int st = tc_api_compare(in->body, in->len, &in->lim, &out->body, &out->res);
-    api_reply(st, 1, out);
+    int rc = tc_api_compare(in->body, in->len, &in->lim, &out->body, &out->res);
+    api_reply(rc, 1, out);
 }
 
 static const tc_route routes[] = {

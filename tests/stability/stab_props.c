@@ -7,7 +7,6 @@
 
 #include "core/ct.h"
 #include "core/geom.h"
-#include "core/internal.h"
 #include "core/mesh.h"
 #include "core/recon.h"
 #include "stab.h"
@@ -71,7 +70,7 @@ static const double S[] = {0.0, 0.137, 0.5, 0.771, 1.0};
 static void on_edge(const tc_recon *r, int32_t t, int32_t a, int32_t b, double s, double *v, double *g) {
     const tc_mesh *m = tc_recon_mesh(r);
     const double *pa = tc__vxy(m, a), *pb = tc__vxy(m, b);
-    tc_at at;
+    tc__eval_point at;
     tc__at(m, t, pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1]), &at);
     int ka = tc__corner_of(m, t, a), kb = tc__corner_of(m, t, b);
     at.lam[ka] = 1 - s, at.lam[kb] = s, at.lam[3 - ka - kb] = 0;

@@ -1,5 +1,5 @@
-/* test_image.c — unit tests of src/image: format names, Accept headers, the lazy plugin
- * loader, and every format encoded in memory then decoded back with OpenImageIO. */
+/* test_image.c — unit tests of src/image: the format table, the lazy plugin loader, and
+ * every format encoded in memory then decoded back with OpenImageIO. */
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -166,7 +166,7 @@ static void check_png(int nch, int with_alpha, int sixteen, int linear, double e
     tc_img_decoded_free(&d);
 }
 
-/* ---- names and Accept headers (no plugin) ------------------------------------------ */
+/* ---- names (no plugin) -------------------------------------------------------------- */
 
 TEST(image_format_names) {
     for (int f = 0; f < TC_IMG_NFORMATS; f++) {
@@ -187,55 +187,6 @@ TEST(image_format_names) {
     CHECK(strcmp(tc_img_mime(TC_IMG_EXR_HALF), "image/x-exr") == 0);
     CHECK(strcmp(tc_img_mime(TC_IMG_TIFF), "image/tiff") == 0);
     CHECK(strcmp(tc_img_mime(TC_IMG_RAW), "application/octet-stream") == 0);
-}
-
-TEST(image_accept_header) {
-    static const struct {
-        const char *accept;
-        int want;
-    } cases[] = {
-        {NULL, -1},
-        {"", -1},
-        {"image/png", TC_IMG_PNG},
-        {"image/x-exr", TC_IMG_EXR},
-        {"image/exr", TC_IMG_EXR},
-        {"IMAGE/TIFF", TC_IMG_TIFF},
-        {"application/octet-stream", TC_IMG_RAW},
-        {"*/*", -1},
-        {"image/*", -1},
-        {"text/html, application/json", -1},
-        {"image/avif,image/webp,image/apng,image/svg+xml,image/*,*/*;q=0.8", -1},
-        {"image/png;q=0.5, image/x-exr;q=0.8", TC_IMG_EXR},
-        {"image/tiff;q=0.5, */*;q=0.1", TC_IMG_TIFF},
-        {"image/tiff;q=0.5, */*", -1},   /* the wildcard prefers anything else */
-        {"image/tiff, */*", TC_IMG_TIFF}, /* a tie goes to the named type */
-        {"image/png, image/tiff", TC_IMG_PNG},
-        {"image/tiff, image/png", TC_IMG_TIFF},
-        {"image/x-exr;q=0, image/tiff;q=0.1", TC_IMG_TIFF},
-        {"image/x-exr;q=0", -1},
-        {"image/x-exr;level=1;q=0.9, image/png;q=0.8", TC_IMG_EXR},
-        {"image/png; x=\"a,b;q=1\"; q=0.2, image/tiff;q=0.3", TC_IMG_TIFF},
-        {"image/tiff;q=2, image/png;q=0.1", TC_IMG_PNG}, /* malformed q: ignored */
-        {"image/tiff;q=0.5x, image/png;q=0.1", TC_IMG_PNG},
-        {"  image/tiff ;q=0.7 ,image/png;q=0.6", TC_IMG_TIFF},
-        {"image/png;q=0.001, application/octet-stream;q=0.002", TC_IMG_RAW},
-        {"application/*;q=0.9, image/png;q=0.5", -1},
-        {",,image/tiff,,", TC_IMG_TIFF},
-    };
-    /* A long header (parsing must stay linear): many ranges, then the one we serve. */
-    size_t n = 200000;
-    char *big = malloc(n + 32);
-    if (big) {
-        for (size_t i = 0; i < n; i += 2) big[i] = 'x', big[i + 1] = ',';
-        strcpy(big + n, "image/tiff;q=0.4");
-        CHECK(tc_img_format_from_accept(big) == TC_IMG_TIFF);
-        free(big);
-    }
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        int got = tc_img_format_from_accept(cases[i].accept);
-        CHECK_MSG(got == cases[i].want, "Accept '%s': %d, want %d", cases[i].accept ? cases[i].accept : "(null)",
-                  got, cases[i].want);
-    }
 }
 
 /* ---- checks and raw output: still no plugin ------------------------------------------ */
@@ -493,4 +444,78 @@ TEST(image_encode_is_deterministic) {
         tc_img_free(again);
         tc_img_free(first[f]);
     }
+}
+
+/* ---- the format table as a whole ----------------------------------------------------- */
+
+/* What adding a row must keep true: the name and each extension lead back to
+ * the row; a format with extensions is the primary of its MIME type; and for
+ * every channel count, with and without coverage, encoding either succeeds as
+ * the row says (decoding back to as many channels, alpha where the row's rule
+ * writes it) or is refused with a message, before the plugin is involved. */
+TEST(image_format_table_round_trips) {
+    for (int f = 0; f < TC_IMG_NFORMATS; f++) {
+        const tc_img_traits *t = tc_img_traits_of((tc_img_format)f);
+        tc_img_format back = TC_IMG_NFORMATS;
+        CHECK_MSG(t && t->name && t->mime && strchr(t->mime, '/'), "format %d has no row", f);
+        if (!t) continue;
+        CHECK(tc_img_format_parse(t->name, &back) == 0 && back == (tc_img_format)f);
+        CHECK_MSG(!t->ext[0] || tc_img_primary((tc_img_format)f) == f, "%s: extensions on a variant", t->name);
+        for (int i = 0; i < 3 && t->ext[i]; i++) {
+            char path[64];
+            snprintf(path, sizeof path, "dir.x/tile%s", t->ext[i]);
+            CHECK_MSG(tc_img_format_of_path(path) == f, "%s: extension %s", t->name, t->ext[i]);
+        }
+        for (int nc = 1; nc <= MAXCH; nc++)
+            for (int with_alpha = 0; with_alpha <= 1; with_alpha++) {
+                test_img im;
+                make_img(&im, nc, with_alpha);
+                unsigned char *out = NULL;
+                size_t len = 0;
+                char err[256] = "";
+                int refused_alpha = with_alpha && t->alpha != TC_IMG_ALPHA_NONE && !tc_img_has_alpha((tc_img_format)f, nc);
+                int want = tc_img_holds((tc_img_format)f, nc) && !refused_alpha;
+                int rc = tc_img_encode(&im.im, (tc_img_format)f, &out, &len, err, sizeof err);
+                CHECK_MSG((rc == 0) == want && (rc == 0 || (err[0] && !out)), "%s, %d channels%s: %s", t->name, nc,
+                          with_alpha ? " + alpha" : "", rc ? err : "encoded");
+                if (rc == 0 && !t->plugin) CHECK(len == (size_t)W * H * nc * 4);
+                tc_img_decoded d;
+                if (rc == 0 && t->plugin && tc_img_decode(out, len, &d, err, sizeof err) == 0) {
+                    int alpha = with_alpha && tc_img_has_alpha((tc_img_format)f, nc);
+                    CHECK_MSG(d.channels == nc + alpha && (d.alpha_channel >= 0) == alpha,
+                              "%s, %d channels%s: %d decoded, alpha at %d", t->name, nc, with_alpha ? " + alpha" : "",
+                              d.channels, d.alpha_channel);
+                    tc_img_decoded_free(&d);
+                }
+                tc_img_free(out);
+            }
+    }
+}
+
+/* api/openapi.yaml, read next to this source file: the render request's
+ * "format" enum is the table's names in order, and every primary MIME type is
+ * among the render responses' content types. */
+TEST(image_format_table_matches_the_contract) {
+    const char *me = __FILE__, *cut = strstr(me, "tests/unit/test_image.c");
+    char path[1024], line[512], names[256], want_enum[300] = "";
+    snprintf(path, sizeof path, "%.*sapi/openapi.yaml", (int)(cut ? cut - me : 0), me);
+    FILE *fp = fopen(path, "r");
+    CHECK_MSG(fp != NULL, "cannot read %s", path);
+    if (!fp) return;
+    snprintf(want_enum, sizeof want_enum, "enum: [%s]", tc_img_list_names(names, sizeof names));
+    int in_format = 0, enum_ok = 0, mime_seen[TC_IMG_NFORMATS] = {0};
+    while (fgets(line, sizeof line, fp)) {
+        const char *s = line + strspn(line, " ");
+        if (in_format && !strncmp(s, "enum:", 5)) enum_ok = !strncmp(s, want_enum, strlen(want_enum)), in_format = 0;
+        if (!strncmp(s, "format:", 7) && s[7] == '\n') in_format = 1;
+        for (int f = 0; f < TC_IMG_NFORMATS; f++) {
+            const char *mime = tc_img_mime((tc_img_format)f);
+            if (mime && !strncmp(s, mime, strlen(mime)) && !strncmp(s + strlen(mime), ": {schema", 9)) mime_seen[f] = 1;
+        }
+    }
+    fclose(fp);
+    CHECK_MSG(enum_ok, "api/openapi.yaml: the render format enum is not \"%s\"", want_enum);
+    for (int f = 0; f < TC_IMG_NFORMATS; f++)
+        if (tc_img_primary((tc_img_format)f) == f)
+            CHECK_MSG(mime_seen[f], "api/openapi.yaml: /v1/render answers no %s", tc_img_mime((tc_img_format)f));
 }

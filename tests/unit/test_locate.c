@@ -3,7 +3,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "check.h"
 #include "core/mesh.h"
@@ -686,11 +685,7 @@ TEST(locate_exact_near_edge) {
     CHECK(on_line > 1000);
 }
 
-static double now_seconds(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double now_seconds(void) { return tc_now_ms() * 1e-3; }
 
 /* Locates the n points xy into ans; returns the seconds it took. */
 static double time_queries(const tc_locator *L, const double *xy, int32_t *ans, int n) {

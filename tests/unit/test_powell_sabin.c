@@ -7,7 +7,7 @@
 
 #include "check.h"
 #include "core/geom.h"
-#include "core/recon.h"
+#include "core/powell_sabin.h"
 #include "io/api.h"
 #include "meshgen.h"
 #include "props.h"

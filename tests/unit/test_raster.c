@@ -6,7 +6,7 @@
 
 #include "check.h"
 #include "core/ct.h"
-#include "core/recon.h"
+#include "core/eval.h"
 #include "meshgen.h"
 #include "props.h"
 
@@ -145,7 +145,7 @@ TEST(ct_span_doubles_equal_point_evaluation) {
             double xs[N], dv[N * 3], pv[3];
             float fv[N * 3];
             for (int i = 0; i < N; i++) xs[i] = lo + (hi - lo) * (1.2 * trng_uniform(&rng) - 0.1);
-            tc_frame f;
+            tc__eval_frame f;
             tc__frame(m, t, &f);
             tc__ct_span(&f, tc_recon_coefs(s.r) + (size_t)t * nc * TC_CT_ORDINATES, nc, xs, y, N, fv, dv);
             for (int i = 0; i < N; i++) {

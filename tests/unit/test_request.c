@@ -1,4 +1,4 @@
-/* test_request.c — unit tests of the JSON request reader (src/io/request.c).
+/* test_request.c — unit tests of the JSON request reader (src/io/request*.c, reader.c).
  * Every rule of DESIGN.md §3 as read by tc_request_parse: parsed arrays, status, path, message. */
 #include <stdio.h>
 #include <stdlib.h>

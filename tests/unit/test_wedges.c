@@ -207,7 +207,7 @@ TEST(wedges_literal_defect1_breaks_c0_corrected_holds) {
     }
     tc_mesh *m = tmesh_build(&g);
     if (m) {
-        tc_wedge_set ws;
+        tc__wedge_set ws;
         CHECK(tc__wedges_build(m, 1, &ws) == TC_OK);
         int32_t v = tmesh_gv(n, 4, 4), collinear = 0;
         for (int32_t w = 0; w < ws.nw; w++) collinear += ws.w[w].v == v && ws.w[w].collinear;
@@ -246,7 +246,7 @@ TEST(wedges_vertex_classes_and_partition) {
     tmesh_sample(&g, 1, quad_f, NULL, 1, 0, 0.2);
     tc_mesh *m = tmesh_build(&g);
     if (!m) return;
-    tc_wedge_set ws;
+    tc__wedge_set ws;
     CHECK(tc__wedges_build(m, 1, &ws) == TC_OK);
     CHECK(ws.vclass[tmesh_gv(n, 2, 4)] == TC_C0);
     CHECK(ws.vclass[tmesh_gv(n, 4, 4)] == TC_C0);

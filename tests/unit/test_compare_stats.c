@@ -1,4 +1,4 @@
-/* test_error.c — error statistics against a reference: each figure computed by
+/* test_compare_stats.c — error statistics against a reference: each figure computed by
  * hand on a case small enough to check, and points outside the mesh left out. */
 #include <math.h>
 

@@ -1,4 +1,4 @@
-/* error.c — how far a reconstruction is from reference values: max abs, RMS and
+/* compare.c — how far a reconstruction is from reference values: max abs, RMS and
  * Bastos & Oliveira's mean relative error (|ref - rec| / full scale, averaged). */
 #include <math.h>
 

@@ -1,0 +1,109 @@
+/* pipeline.c — the tangent-plane pipeline the methods with tangent planes share:
+ * wedges -> corner input planes -> wedge planes -> (range-limited) corner planes, and
+ * the cubics' build on top of it (the ordinates, ct.c / ct_range.c). */
+#include <string.h>
+
+#include "core/alloc.h"
+#include "core/ct.h"
+#include "core/pipeline.h"
+#include "core/recon.h"
+#include "core/tangent.h"
+
+/* Without flags every wedge is bounded by the mesh boundary only; corner
+ * values that differ inside one wedge (C-1 data) are replaced by their mean,
+ * so the C1 baseline really is continuous there. NULL: use the mesh's values
+ * (also whenever C-1 edges delimit wedges: values agree inside each wedge). */
+static double *merged_values(const struct tc_mesh *m, const tc__wedge_set *ws, int *rc) {
+    *rc = TC_OK;
+    if (ws->honor_flags != TC_HONOR_NONE || m->ncorner_overrides == 0) return NULL;
+    int nc = m->nc;
+    double *cz = tc__malloc(3 * (size_t)m->nt * nc, sizeof *cz);
+    if (!cz) {
+        *rc = TC_ENOMEM;
+        return NULL;
+    }
+    for (int32_t w = 0; w < ws->nw; w++) {
+        const tc__wedge *wd = &ws->w[w];
+        for (int ch = 0; ch < nc; ch++) {
+            double s = 0;
+            for (int32_t i = 0; i < wd->count; i++) s += m->cz[(size_t)ws->corners[wd->first + i] * nc + ch];
+            for (int32_t i = 0; i < wd->count; i++) cz[(size_t)ws->corners[wd->first + i] * nc + ch] = s / wd->count;
+        }
+    }
+    return cz;
+}
+
+typedef struct {
+    tc__wedge_set ws;
+    double *cz_own; /* merged values, or NULL */
+    double *inputs;       /* [3nt][nc][2] corner input planes */
+    double *wedge_planes; /* [nw][nc][2] */
+} ct_scratch;
+
+static void ct_scratch_free(ct_scratch *s) {
+    tc__wedges_free(&s->ws);
+    free(s->cz_own);
+    free(s->inputs);
+    free(s->wedge_planes);
+}
+
+/* Wedges delimited per the method's honour (TC_HONOR_*) -> corner inputs ->
+ * wedge planes; fills r->planes and leaves the intermediate steps in s. */
+static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
+    const struct tc_mesh *m = r->m;
+    size_t stride = 2 * (size_t)m->nc;
+    int rc = tc__wedges_build(m, r->method->honour, &s->ws);
+    if (rc != TC_OK) return rc;
+    s->cz_own = merged_values(m, &s->ws, &rc);
+    if (rc != TC_OK) return rc;
+    s->inputs = tc__malloc(3 * (size_t)m->nt, stride * sizeof *s->inputs);
+    s->wedge_planes = tc__malloc((size_t)s->ws.nw, stride * sizeof *s->wedge_planes);
+    r->planes = tc__malloc(3 * (size_t)m->nt, stride * sizeof *r->planes);
+    if (!s->inputs || !s->wedge_planes || !r->planes) return TC_ENOMEM;
+    const double *cz = s->cz_own ? s->cz_own : m->cz;
+    rc = tc__corner_inputs(m, &s->ws, cz, r->opt.tangents, s->inputs, dg);
+    if (rc != TC_OK) return rc;
+    rc = tc__wedge_planes(m, &s->ws, s->inputs, r->opt.wedges, r->opt.average, s->wedge_planes, dg);
+    if (rc != TC_OK) return rc;
+    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
+        memcpy(r->planes + c * stride, s->wedge_planes + (size_t)s->ws.of_corner[c] * stride,
+               stride * sizeof *r->planes);
+    return TC_OK;
+}
+
+/* Limits the planes r->planes (range.h) for a method that uses them as `use` says. */
+static int limit_planes(struct tc_recon *r, const ct_scratch *s, const tc__plane_use *use, tc_diags *dg) {
+    const double *cz = s->cz_own ? s->cz_own : r->m->cz;
+    tc__bounds b;
+    tc__range_stats stats;
+    tc__range_stats_init(&stats);
+    int rc = tc__bounds_build(r->m, &s->ws, cz, r->planes, r->opt.tangents, r->opt.range, use->per_quad, &b);
+    if (rc == TC_OK) rc = tc__range_planes(r->m, &s->ws, cz, &b, use->dirs, use->ctx, r->planes, &stats);
+    if (rc == TC_OK) tc__range_warn(r->m, &stats, r->opt.range, dg);
+    tc__bounds_free(&b);
+    return rc;
+}
+
+int tc__planes_build(struct tc_recon *r, const tc__plane_use *use, tc_diags *dg) {
+    ct_scratch s;
+    memset(&s, 0, sizeof s);
+    int rc = ct_planes(r, &s, dg);
+    if (rc == TC_OK && use && use->dirs && r->opt.range != TC_RANGE_FREE) rc = limit_planes(r, &s, use, dg);
+    ct_scratch_free(&s);
+    return rc;
+}
+
+int tc__ct_build(struct tc_recon *r, tc_diags *dg) {
+    ct_scratch s;
+    memset(&s, 0, sizeof s);
+    int rc = ct_planes(r, &s, dg);
+    if (rc == TC_OK) {
+        tc__ct_input ci = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->planes, s.inputs,
+                         r->opt.cross_boundary, r->opt.tangents, r->opt.wedges,
+                         r->opt.wedges == TC_WEDGES_CORRECTED && r->opt.average == TC_AVERAGE_AREA};
+        rc = r->opt.range == TC_RANGE_FREE ? tc__ct_ordinates(&ci, r->coef, dg)
+                                           : tc__ct_ordinates_ranged(&ci, r->opt.range, r->planes, r->coef, dg);
+    }
+    ct_scratch_free(&s);
+    return rc;
+}
