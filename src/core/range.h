@@ -16,8 +16,10 @@
  *     vertex on the mesh's boundary (a one-sided fit);
  * and never below 0 where T's corner values are all >= 0. So a triangle of
  * flat data next to a thin strip cannot sink or swell, while a smooth peak or
- * ridge that passes between samples keeps its shape (the limiter costs the
- * reference scenes at most 10 % of their error; docs/report.md). Range
+ * ridge that passes between samples keeps its shape. What the limiter costs
+ * against "free" is measured in docs/report.md "Range": within 1.1x on the
+ * discontinuity meshes with midpoint planes, more on meshes with unflagged
+ * jumps and with estimated planes on coarse or fine disc meshes. Range
  * "positive" keeps only the floor at 0.
  *
  * A piece is a Bézier patch, so it lies inside the convex hull of its
