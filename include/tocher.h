@@ -300,6 +300,17 @@ int tc_average_parse(const char *s, tc_average *out);
 int tc_range_parse(const char *s, tc_range *out);
 int tc_degenerate_parse(const char *s, tc_degenerate *out);
 
+/* The options of tc_options but the method, generically: option i of
+ * 0 .. tc_option_count() - 1 has a request name ("cross_boundary"), a TC_READS_*
+ * bit, values named by tc_option_value_name (NULL past the last; value 0 is the
+ * default), and a value in a tc_options. Unknown i: NULL, 0, or no effect. */
+int tc_option_count(void);
+const char *tc_option_name(int i);
+unsigned tc_option_bit(int i);
+const char *tc_option_value_name(int i, int v);
+int tc_option_get(const tc_options *o, int i);
+void tc_option_set(tc_options *o, int i, int v);
+
 typedef struct tc_recon tc_recon;
 
 int tc_recon_new(const tc_mesh *m, const tc_options *o, tc_recon **out, tc_diags *diags);

@@ -96,8 +96,8 @@ static void print_usage(FILE *f) {
     fputs(usage, f);
     fputs(render, f);
     fputs(usage_tail, f);
-    for (int i = 0; i < tc_nopts; i++) {
-        const tc_opt *row = &tc_opts[i];
+    for (int i = 0; i < tc_opt_count(); i++) {
+        const tc_opt *row = tc_opt_at(i);
         char accepts[256];
         tc_opt_accepts(row, accepts, sizeof accepts);
         fprintf(f, "  %-16s %s", row->name, accepts);

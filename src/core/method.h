@@ -27,7 +27,8 @@ typedef struct {
     int honour;                 /* which interior flags cut it (its wedges, its jumps) */
     int8_t smooth;              /* the most continuity it has across an interior edge it
                                  * does not cut: TC_C1, TC_C0 (linear) or TC_CM1 (constant) */
-    unsigned reads;             /* TC_READS_*: the options of tc_options it reads */
+    unsigned uses;              /* TC__USES_* (option_table.h): what it is built with, which
+                                 * decides the options it reads (tc_method_reads) */
     int quads_only;             /* needs a mesh given as quads (and patches span both halves) */
     int ordinates;              /* its first `ordinates` coefficients are Bézier ordinates that
                                  * bound its pieces (range.h); 0: it cannot leave its data's range */

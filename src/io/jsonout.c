@@ -28,6 +28,8 @@ void tc_json_ints(tc_strbuf *b, const int32_t *x, int n) {
 }
 
 void tc_json_options(tc_strbuf *b, const tc_options *o) {
-    for (int i = 0; i < tc_nopts; i++) /* the method, then only the options it reads */
-        if (tc_opt_read_by(&tc_opts[i], o->method)) tc_opt_write(b, ",", &tc_opts[i], o);
+    for (int i = 0; i < tc_opt_count(); i++) { /* the method, then only the options it reads */
+        const tc_opt *row = tc_opt_at(i);
+        if (tc_opt_read_by(row, o->method)) tc_opt_write(b, ",", row, o);
+    }
 }

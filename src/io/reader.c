@@ -313,17 +313,17 @@ static int edit_distance(const char *a, const char *b) {
 static int member_slot(const tc__field *fields, int nf, int with_opts, const char *name) {
     int i = tc__field_index(fields, nf, name);
     const tc_opt *row = with_opts && i < 0 ? tc_opt_find(name) : NULL;
-    return row ? nf + (int)(row - tc_opts) : i;
+    return row ? nf + tc_opt_index(row) : i;
 }
 
 static const char *slot_name(const tc__field *fields, int nf, int slot) {
-    return slot < nf ? fields[slot].name : tc_opts[slot - nf].name;
+    return slot < nf ? fields[slot].name : tc_opt_at(slot - nf)->name;
 }
 
 static void warn_unknown(tc__reader *rd, const tc__jpath *p, const char *name, const tc__field *fields, int nf,
                          int with_opts) {
     int best = -1, best_d = 3; /* suggest only names within 2 edits */
-    for (int i = 0; i < nf + (with_opts ? tc_nopts : 0); i++) {
+    for (int i = 0; i < nf + (with_opts ? tc_opt_count() : 0); i++) {
         const char *known = slot_name(fields, nf, i);
         int d = edit_distance(name, known);
         if (d < best_d && d < (int)strlen(known)) best = i, best_d = d;
@@ -335,7 +335,7 @@ static void warn_unknown(tc__reader *rd, const tc__jpath *p, const char *name, c
 }
 
 /* Sorts the members of obj into found[nf] by fields[] (and, with_opts, the
- * options into found[nf .. nf + tc_nopts)): unknown names warn, a name given
+ * options into found[nf .. nf + tc_opt_count())): unknown names warn, a name given
  * twice is a shape error. what describes obj for a type error. */
 int tc__rd_sort_members(tc__reader *rd, const cJSON *obj, const tc__jpath *p, const tc__field *fields, int nf,
                         int with_opts, const cJSON **found, const char *what) {
@@ -343,7 +343,7 @@ int tc__rd_sort_members(tc__reader *rd, const cJSON *obj, const tc__jpath *p, co
         tc__rd_shape_error(rd, p, "expected %s, got %s", what, tc__json_kind(obj));
         return -1;
     }
-    for (int i = 0; i < nf + (with_opts ? tc_nopts : 0); i++) found[i] = NULL;
+    for (int i = 0; i < nf + (with_opts ? tc_opt_count() : 0); i++) found[i] = NULL;
     for (const cJSON *m = obj->child; m; m = m->next) {
         const char *name = m->string ? m->string : "";
         tc__jpath pm = tc__jpath_key(p, name);

@@ -104,7 +104,7 @@ typedef struct {
 
 int tc__field_index(const tc__field *fields, int nf, const char *name);
 /* Sorts the members of obj into found[nf] by fields[] (and, with_opts, the
- * options into found[nf .. nf + tc_nopts)): unknown names warn (with a "did you
+ * options into found[nf .. nf + tc_opt_count())): unknown names warn (with a "did you
  * mean"), a name given twice is a shape error. what describes obj for a type error. */
 int tc__rd_sort_members(tc__reader *rd, const cJSON *obj, const tc__jpath *p, const tc__field *fields, int nf,
                         int with_opts, const cJSON **found, const char *what);

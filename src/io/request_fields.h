@@ -23,7 +23,7 @@ void tc__parse_points(tc__reader *rd, const cJSON *v, const tc__jpath *p);
 int tc__rd_xy_list(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t max, size_t *n_out, double **xy_out);
 
 /* request_options.c: the options found at the top level (found[j] for row j of
- * tc_opts) into the request's, then "methods", whose entries start from them. */
+ * tc_opt_at) into the request's, then "methods", whose entries start from them. */
 void tc__rd_options(tc__reader *rd, const cJSON *const *found);
 void tc__parse_methods(tc__reader *rd, const cJSON *v, const tc__jpath *p);
 

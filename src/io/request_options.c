@@ -33,10 +33,11 @@ static void read_option(tc__reader *rd, const tc_opt *row, const cJSON *v, const
 /* The options found at the top level (found[j] for row j): the request's own,
  * and the defaults of each entry of "methods". */
 void tc__rd_options(tc__reader *rd, const cJSON *const *found) {
-    for (int j = 0; j < tc_nopts; j++) {
+    for (int j = 0; j < tc_opt_count(); j++) {
+        const tc_opt *row = tc_opt_at(j);
         if (!found[j]) continue;
-        tc__jpath p = tc__jpath_key(NULL, tc_opts[j].name);
-        read_option(rd, &tc_opts[j], found[j], &p, &rd->r->opt);
+        tc__jpath p = tc__jpath_key(NULL, row->name);
+        read_option(rd, row, found[j], &p, &rd->r->opt);
     }
 }
 
@@ -51,16 +52,17 @@ static void read_method(tc__reader *rd, const cJSON *e, const tc__jpath *p, tc_o
     }
     const cJSON *found[TC_OPT_MAX];
     if (tc__rd_sort_members(rd, e, p, NULL, 0, 1, found, "a method name or an object {method, ...}")) return;
-    for (int j = 0; j < tc_nopts; j++) {
+    for (int j = 0; j < tc_opt_count(); j++) {
+        const tc_opt *row = tc_opt_at(j);
         if (!found[j]) continue;
-        tc__jpath pj = tc__jpath_key(p, tc_opts[j].name);
-        if (tc_opts[j].target == TC_OPT_MESH)
+        tc__jpath pj = tc__jpath_key(p, row->name);
+        if (row->target == TC_OPT_MESH)
             tc__rd_warning(rd, &pj,
                            "'%s' applies to the mesh, which every method shares: give it at the top level (ignored "
                            "here)",
-                           tc_opts[j].name);
+                           row->name);
         else
-            read_option(rd, &tc_opts[j], found[j], &pj, o);
+            read_option(rd, row, found[j], &pj, o);
     }
 }
 

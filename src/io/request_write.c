@@ -152,8 +152,8 @@ static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int
  * they would read back as those), then, when o is not NULL, "method" and the
  * options it reads (the rest would change nothing). */
 static void options(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
-    for (int i = 0; i < tc_nopts; i++) {
-        const tc_opt *row = &tc_opts[i];
+    for (int i = 0; i < tc_opt_count(); i++) {
+        const tc_opt *row = tc_opt_at(i);
         if (row->target == TC_OPT_MESH && !tc_opt_is_default(row, d)) tc_opt_write(b, ",\n", row, d);
         if (o && tc_opt_read_by(row, o->method)) tc_opt_write(b, ",\n", row, o);
     }

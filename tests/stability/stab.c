@@ -36,9 +36,18 @@ void stab_options(int v, tc_tangents tangents, tc_options *o) {
 
 int stab_literal(int v) { return stab_var[v].wedges == TC_WEDGES_LITERAL; }
 
-int stab_has_planes(int v) {
-    tc_method m = stab_var[v].method;
-    return m != TC_METHOD_CONSTANT && m != TC_METHOD_LINEAR && m != TC_METHOD_LINEAR4;
+/* From the method table: the methods that read `tangents` run the tangent-plane pipeline. */
+int stab_has_planes(int v) { return (tc_method_reads(stab_var[v].method) & TC_READS_TANGENTS) != 0; }
+
+/* A method added to the table without a variant here would go untested by the
+ * whole suite: refuse that. */
+TEST(stab_variants_cover_every_method) {
+    for (int m = 0; m < tc_method_count(); m++) {
+        int found = 0;
+        for (int v = 0; v < STAB_NVAR; v++) found |= stab_var[v].method == (tc_method)m;
+        CHECK_MSG(found, "method %s has no variant in stab_var (tests/stability/stab.c)", tc_method_name((tc_method)m));
+    }
+    CHECK(stab_var[STAB_HERMITE].method == TC_METHOD_HERMITE);
 }
 
 /* ---- owned descriptions ---- */

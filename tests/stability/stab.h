@@ -26,7 +26,7 @@ extern const stab_variant stab_var[STAB_NVAR];
 
 void stab_options(int v, tc_tangents tangents, tc_options *o);
 int stab_literal(int v);
-/* Methods with tangent planes (everything but constant, linear, linear4). */
+/* Methods with tangent planes (everything but constant, linear, linear4: the method table says). */
 int stab_has_planes(int v);
 
 /* ---- owned mesh descriptions ---- */

@@ -270,11 +270,22 @@ def sliver_warnings(d):
           "exit %d, warnings %s" % (rc, w))
 
 
+def methods_of_help():
+    """The methods `tocher help` lists (the method table)."""
+    out = subprocess.run([TOCHER, "help"], stdout=subprocess.PIPE, timeout=60).stdout.decode()
+    m = re.search(r"^  method +(.*)$", out, re.M)
+    return m.group(1).split(", ") if m else []
+
+
 def main():
     for exe in (TOCHER, TOCHERD):
         if not os.access(exe, os.X_OK):
             check("%s exists" % exe, False, "build it first (make)")
             finish()
+    listed = methods_of_help()
+    missing = sorted(set(listed) - {m for m, _ in VARIANTS})
+    check("VARIANTS cover every method of the table (%d)" % len(listed), listed and not missing,
+          "no variant for: " + ", ".join(missing))
     d = Daemon("--render-threads", "5")
     for method, opts in VARIANTS:
         run_variant(d, method, opts)

@@ -138,8 +138,7 @@ static void measure(const tc_mesh_desc *d, int v, tc_tangents src, double aspect
         const char *which = c.internal >= fmax(c.c1, c.vertex) ? "internal" : c.c1 >= c.vertex ? "edge" : "vertex";
         snprintf(w1, sizeof w1, "%s (%s)", where, which);
         stab_acc_fig(&f->c0[v], r0, where);
-        if (v != STAB_HERMITE && stab_var[v].method != TC_METHOD_LINEAR && stab_var[v].method != TC_METHOD_LINEAR4 &&
-            stab_var[v].method != TC_METHOD_CONSTANT) {
+        if (stab_has_planes(v) && v != STAB_HERMITE) {
             if (c.aspect <= STAB_C1_ASPECT) stab_acc_fig(&f->c1[v], r1, w1);
             stab_acc_fig(&f->c1s[v], fin ? stab_c1_over_bound(&c) : INFINITY, w1);
         }

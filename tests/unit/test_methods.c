@@ -24,6 +24,28 @@ TEST(methods_table_names_round_trip) {
     CHECK(!tc_method_quads_only(TC_METHOD_CLOUGH_TOCHER));
 }
 
+/* The options table: one row per field of tc_options but the method (the
+ * core asserts the count at compile time), names both ways, value 0 the
+ * default, distinct TC_READS_* bits; the request's table has them all. */
+TEST(methods_option_table) {
+    tc_options def, o;
+    tc_options_default(&def);
+    unsigned seen = 0;
+    for (int i = 0; i < tc_option_count(); i++) {
+        const char *name = tc_option_name(i);
+        CHECK_MSG(name && tc_option_bit(i) && !(seen & tc_option_bit(i)), "option %d (%s): bit %#x", i,
+                  name ? name : "?", tc_option_bit(i));
+        seen |= tc_option_bit(i);
+        CHECK(tc_option_get(&def, i) == 0 && tc_option_value_name(i, 0) && tc_option_value_name(i, 1));
+        for (int v = 0; tc_option_value_name(i, v); v++) {
+            o = def;
+            tc_option_set(&o, i, v);
+            CHECK(tc_option_get(&o, i) == v);
+        }
+    }
+    CHECK(tc_option_name(tc_option_count()) == NULL && tc_option_value_name(0, 99) == NULL);
+}
+
 static void wavy(const void *ctx, double x, double y, int ch, double *v, double g[2], double h[3]) {
     (void)ctx;
     double a = 1 + 0.5 * ch;
@@ -35,16 +57,6 @@ static void wavy(const void *ctx, double x, double y, int ch, double *v, double 
     h[2] = -1.69 * sin(2 * a * x) * cos(1.3 * y);
 }
 
-/* Option `bit` of o set to a value other than the default. */
-static void change(tc_options *o, unsigned bit) {
-    if (bit == TC_READS_CROSS_BOUNDARY) o->cross_boundary = TC_CROSS_SALESIN;
-    if (bit == TC_READS_WEDGES) o->wedges = TC_WEDGES_LITERAL;
-    if (bit == TC_READS_TANGENTS) o->tangents = TC_TANGENTS_ESTIMATE;
-    if (bit == TC_READS_TWIST) o->twist = TC_TWIST_ZERO;
-    if (bit == TC_READS_AVERAGE) o->average = TC_AVERAGE_NORMALS;
-    if (bit == TC_READS_RANGE) o->range = TC_RANGE_FREE;
-}
-
 /* Each coefficient of r equals that of base, bit for bit. */
 static int same_coefs(const tc_recon *r, const tc_recon *base) {
     const tc_mesh *m = tc_recon_mesh(base);
@@ -53,11 +65,10 @@ static int same_coefs(const tc_recon *r, const tc_recon *base) {
                                                                           n * sizeof(double));
 }
 
-/* Method i on m: its labels are as many as its coefficients, and an option it
- * does not read (tc_method_reads) leaves every coefficient the same. */
+/* Method i on m: its labels are as many as its coefficients, and every value
+ * of every option it does not read (tc_method_reads; the options of the core's
+ * table, tc_option_*) leaves every coefficient the same. */
 static void check_reads(const tc_mesh *m, tc_method method) {
-    static const unsigned bits[] = {TC_READS_CROSS_BOUNDARY, TC_READS_WEDGES, TC_READS_TANGENTS,
-                                    TC_READS_TWIST,          TC_READS_AVERAGE, TC_READS_RANGE};
     tc_options o;
     tc_options_default(&o);
     o.method = method;
@@ -69,15 +80,17 @@ static void check_reads(const tc_mesh *m, tc_method method) {
     int nk = tc_recon_coef_count(base);
     for (int k = 0; k < nk; k++) CHECK(tc_recon_coef_label(base, k) != NULL);
     CHECK(tc_recon_coef_label(base, nk) == NULL);
-    for (size_t b = 0; b < sizeof bits / sizeof bits[0]; b++) {
-        if (tc_method_reads(method) & bits[b]) continue;
-        tc_options o2 = o;
-        change(&o2, bits[b]);
-        tc_recon *r = NULL;
-        CHECK(tc_recon_new(m, &o2, &r, NULL) == TC_OK);
-        CHECK_MSG(r && same_coefs(r, base), "%s changes with option bit %#x it does not read", tc_method_name(method),
-                  bits[b]);
-        tc_recon_free(r);
+    for (int i = 0; i < tc_option_count(); i++) {
+        if (tc_method_reads(method) & tc_option_bit(i)) continue;
+        for (int v = 1; tc_option_value_name(i, v); v++) {
+            tc_options o2 = o;
+            tc_option_set(&o2, i, v);
+            tc_recon *r = NULL;
+            CHECK(tc_recon_new(m, &o2, &r, NULL) == TC_OK);
+            CHECK_MSG(r && same_coefs(r, base), "%s changes with %s \"%s\", which it does not read",
+                      tc_method_name(method), tc_option_name(i), tc_option_value_name(i, v));
+            tc_recon_free(r);
+        }
     }
     tc_recon_free(base);
 }

@@ -29,7 +29,7 @@ static tc_request *parse_ok(const char *json) {
 
 /* A value of the row other than v (enums: the next name; numbers: in range). */
 static void member_text(const tc_opt *row, int v, char *buf, size_t cap) {
-    if (row->kind == TC_OPT_ENUM) snprintf(buf, cap, "\"%s\": \"%s\"", row->name, row->name_of(v));
+    if (row->kind == TC_OPT_ENUM) snprintf(buf, cap, "\"%s\": \"%s\"", row->name, tc_opt_value_name(row, v));
     else snprintf(buf, cap, "\"%s\": %.17g", row->name, row->min + (row->max - row->min) * v / 8.0);
 }
 
@@ -39,13 +39,20 @@ static int holds(const tc_opt *row, const tc_request *r, const tc_options *o, in
     return tc_opt_get_number(row, obj) == row->min + (row->max - row->min) * v / 8.0;
 }
 
+/* The request's rows: the method, every core option (tc_option_*), the two mesh options. */
+TEST(options_rows_cover_the_core_table) {
+    CHECK(tc_opt_count() == 1 + tc_option_count() + 2 && tc_opt_count() <= TC_OPT_MAX);
+    for (int i = 0; i < tc_option_count(); i++)
+        CHECK(tc_opt_find(tc_option_name(i)) == tc_opt_at(1 + i) && tc_opt_at(1 + i)->reads == tc_option_bit(i));
+}
+
 /* Every value of every row parses at the top level; a reconstruction option
  * also inside an entry of "methods" (which starts from the request's own). */
 TEST(options_every_value_parses) {
-    for (int i = 0; i < tc_nopts; i++) {
-        const tc_opt *row = &tc_opts[i];
+    for (int i = 0; i < tc_opt_count(); i++) {
+        const tc_opt *row = tc_opt_at(i);
         int nv = row->kind == TC_OPT_ENUM ? 0 : 9;
-        while (row->kind == TC_OPT_ENUM && row->name_of(nv)) nv++;
+        while (row->kind == TC_OPT_ENUM && tc_opt_value_name(row, nv)) nv++;
         CHECK_MSG(nv >= 2, "%s has %d values", row->name, nv);
         for (int v = 0; v < nv; v++) {
             char member[128], json[512];
@@ -80,13 +87,13 @@ TEST(options_echo_and_write_what_the_method_reads) {
         tc_strbuf_putc(&b, '}');
         cJSON *echo = cJSON_ParseWithLength(b.buf, b.len);
         CHECK(cJSON_IsObject(echo));
-        for (int i = 0; echo && i < tc_nopts; i++) {
-            const tc_opt *row = &tc_opts[i];
+        for (int i = 0; echo && i < tc_opt_count(); i++) {
+            const tc_opt *row = tc_opt_at(i);
             const cJSON *e = cJSON_GetObjectItemCaseSensitive(echo, row->name);
             int want = tc_opt_read_by(row, o.method);
             CHECK_MSG(!e == !want, "%s: '%s' %s", tc_method_name(o.method), row->name, e ? "echoed" : "missing");
             if (e && row->kind == TC_OPT_ENUM)
-                CHECK(cJSON_IsString(e) && !strcmp(e->valuestring, row->name_of(tc_opt_get_enum(row, &o))));
+                CHECK(cJSON_IsString(e) && !strcmp(e->valuestring, tc_opt_value_name(row, tc_opt_get_enum(row, &o))));
         }
         cJSON_Delete(echo);
         tc_strbuf_free(&b);
@@ -98,8 +105,8 @@ TEST(options_echo_and_write_what_the_method_reads) {
         tc_json_request(&b, &d, &o);
         tc_request *r = parse_ok(b.buf ? b.buf : "");
         if (r) CHECK(r->desc.value_tolerance == 0); /* a zero-filled description's, written out */
-        for (int i = 0; r && i < tc_nopts; i++) {
-            const tc_opt *row = &tc_opts[i];
+        for (int i = 0; r && i < tc_opt_count(); i++) {
+            const tc_opt *row = tc_opt_at(i);
             if (row->target != TC_OPT_RECON || row->kind != TC_OPT_ENUM) continue;
             int want = tc_opt_read_by(row, o.method) ? tc_opt_get_enum(row, &o) : 0; /* else the default */
             CHECK_MSG(tc_opt_get_enum(row, &r->opt) == want, "%s: %s written and read back", tc_method_name(o.method),
