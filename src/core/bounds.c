@@ -45,21 +45,38 @@ typedef struct {
 static double minmod(double a, double b) { return a > 0 && b > 0 ? fmin(a, b) : a < 0 && b < 0 ? fmax(a, b) : 0; }
 
 /* How much a corner's plane is believed about the shape of the data. Given
- * planes and planes from the paper's midpoint samples are data; a plane
- * estimated from the neighbouring vertices is fitted to the same values, and
- * at a vertex on the mesh's boundary it is a one-sided extrapolation: none. */
+ * planes and planes from the paper's midpoint samples are data. A plane
+ * estimated from the neighbouring vertices is data too on a well-shaped
+ * triangle (shaped: aspect <= TC_RANGE_SHAPED_ASPECT), whose neighbourhood is
+ * about its own size; on a long or obtuse one it is fitted over a region far
+ * wider than the triangle, and at a vertex on the mesh's boundary it is a
+ * one-sided extrapolation there: none. */
 enum { PLANE_DATA, PLANE_ESTIMATED, PLANE_NONE };
 
-static int plane_kind(const struct tc_mesh *m, const tc__wedge_set *ws, tc_tangents mode, size_t c) {
+static int plane_kind(const struct tc_mesh *m, const tc__wedge_set *ws, tc_tangents mode, size_t c, int shaped) {
     int32_t t = (int32_t)(c / 3), k = (int32_t)(c % 3);
     int given = m->given_grad_has && m->given_grad_has[c];
     int mids = m->mid_has && m->mid_has[c] && m->mid_has[3 * t + (k + 2) % 3];
     if (given && (mode == TC_TANGENTS_AUTO || mode == TC_TANGENTS_GIVEN)) return PLANE_DATA;
     if (mids && (mode == TC_TANGENTS_AUTO || mode == TC_TANGENTS_MIDPOINTS)) return PLANE_DATA;
+    if (shaped) return PLANE_DATA;
     const tc__wedge *w = &ws->w[ws->of_corner[c]];
     for (int side = 0; side < 2; side++)
         if (w->side_edge[side] >= 0 && m->nbr[w->side_edge[side]] < 0) return PLANE_NONE;
     return PLANE_ESTIMATED;
+}
+
+/* Triangle t's longest edge over its shortest altitude (2/sqrt(3) when
+ * equilateral, 2 for a grid's right triangle); infinite when degenerate. */
+static double aspect(const struct tc_mesh *m, int32_t t) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    double e[3][2], longest = 0;
+    for (int k = 0; k < 3; k++) {
+        tc__sub(e[k], tc__vxy(m, v[(k + 1) % 3]), tc__vxy(m, v[k]));
+        longest = fmax(longest, tc__dot(e[k], e[k]));
+    }
+    double twice_area = fabs(tc__cross(e[0], e[2]));
+    return twice_area > 0 ? longest / twice_area : INFINITY;
 }
 
 /* The humps and dips triangle t's edges show (i -> j). A midpoint sample above
@@ -71,7 +88,7 @@ static int plane_kind(const struct tc_mesh *m, const tc__wedge_set *ws, tc_tange
  * such an edge passes the ends by about a third of the smaller slope. */
 static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
                   tc_tangents mode, int32_t t, int ch, extent *ext) {
-    int nc = m->nc;
+    int nc = m->nc, shaped = aspect(m, t) <= TC_RANGE_SHAPED_ASPECT;
     for (int i = 0; i < 3; i++) {
         size_t ci = 3 * (size_t)t + i, cj = 3 * (size_t)t + (i + 1) % 3;
         if (m->mid_has && m->mid_has[ci]) {
@@ -79,7 +96,7 @@ static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double
             ext->data[0] = fmax(ext->data[0], 4.0 / 3 * (mid - fmax(zi, zj)));
             ext->data[1] = fmax(ext->data[1], 4.0 / 3 * (fmin(zi, zj) - mid));
         }
-        int ki = plane_kind(m, ws, mode, ci), kj = plane_kind(m, ws, mode, cj);
+        int ki = plane_kind(m, ws, mode, ci, shaped), kj = plane_kind(m, ws, mode, cj, shaped);
         if (!planes || ki == PLANE_NONE || kj == PLANE_NONE) continue;
         double e[2];
         tc__sub(e, tc__vxy(m, m->tri[cj]), tc__vxy(m, m->tri[ci]));

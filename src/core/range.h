@@ -10,8 +10,10 @@
  *     the three samples puts in the net); or corner planes that rise from one
  *     end of an edge and fall to the other, a third of the smaller of the two
  *     slopes along the edge (what such a bend puts in the net). Planes given
- *     or built from midpoint samples count as data; planes estimated from the
- *     neighbouring vertices count only as far as the values around T go (the
+ *     or built from midpoint samples count as data, and so do planes
+ *     estimated from the neighbouring vertices where T is well shaped
+ *     (aspect <= TC_RANGE_SHAPED_ASPECT); on a longer or more obtuse T an
+ *     estimated plane counts only as far as the values around T go (the
  *     range over the faces of the wedges at T's corners), and not at all at a
  *     vertex on the mesh's boundary (a one-sided fit);
  * and never below 0 where T's corner values are all >= 0. So a triangle of
@@ -38,6 +40,14 @@
  * of corner values: room for rounding of the data and for the small second-
  * order rise of smooth data between samples; 0 for flat data. */
 #define TC_RANGE_MARGIN 0.05
+
+/* Above this aspect (longest edge / shortest altitude; 2 for a grid's right
+ * triangle) a triangle's estimated corner planes are fitted over a region
+ * much wider than the triangle and say little about a bend inside it: the
+ * long, obtuse fans of discontinuity meshers (aspect 40 to 800). Measured:
+ * the realistic surfaces keep their overshoot bounds up to about 16, and the
+ * reference disc meshes need about 5 (tests/unit/test_overshoot.c, docs/report.md). */
+#define TC_RANGE_SHAPED_ASPECT 8.0
 
 /* Ordinates within this much of the bound, relative to the channel's largest
  * |value|, count as inside: rounding, not overshoot. */

@@ -81,6 +81,20 @@ static void around_range(const tc_recon *rec, int32_t t, int ch, double *lo, dou
     }
 }
 
+/* Whether a triangle is well shaped (range.h): its longest edge squared over
+ * twice its area at most TC_RANGE_SHAPED_ASPECT. Estimated planes of a
+ * well-shaped triangle count as data; on others only as far as the values around. */
+static int shaped(const double *xy, const int32_t *v) {
+    const double *p[3] = {xy + 2 * v[0], xy + 2 * v[1], xy + 2 * v[2]};
+    double longest = 0;
+    for (int k = 0; k < 3; k++) {
+        double dx = p[(k + 1) % 3][0] - p[k][0], dy = p[(k + 1) % 3][1] - p[k][1];
+        longest = fmax(longest, dx * dx + dy * dy);
+    }
+    double twice_area = fabs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
+    return longest <= TC_RANGE_SHAPED_ASPECT * twice_area;
+}
+
 /* Triangle t's bound in channel ch as range.h states it (with an estimate's
  * reach taken over a superset of the values around). o: its ordinates, whose
  * first three are the corner values the reconstruction interpolates. */
@@ -104,7 +118,7 @@ static void spec_bound(const tc_recon *rec, const evidence *ev, int32_t t, int c
         double di = gi[0] * e[0] + gi[1] * e[1], dj = gj[0] * e[0] + gj[1] * e[1];
         phump = fmax(phump, minmod(di, -dj) / 3), pdip = fmax(pdip, minmod(-di, dj) / 3);
     }
-    if (ev && ev->estimated) {
+    if (ev && ev->estimated && !shaped(xy, tri + 3 * t)) {
         double rlo, rhi;
         around_range(rec, t, ch, &rlo, &rhi);
         phump = fmin(phump, fmax(0, rhi - b)), pdip = fmin(pdip, fmax(0, a - rlo));
