@@ -124,10 +124,11 @@ def why(ratios):
                                                                                         for r in rms_only))))
     if est_disc:
         w = max(est_disc, key=lambda r: r["limited"]["max_abs"] / r["free"]["max_abs"])
-        out.append("%d are ct-estimate on the discontinuity meshes, where the bound from estimated planes (they "
-                   "count only as far as the values around a triangle go) cuts into the light: the largest error "
-                   "grows by up to %s× (%s: %s against %s)." % (
-                       len(est_disc), ratio(w["limited"]["max_abs"] / w["free"]["max_abs"]), _where(w),
+        out.append("%d %s ct-estimate on the discontinuity meshes (estimated planes count as data on well-shaped "
+                   "triangles, aspect ≤ 8, and only as far as the values around go on longer ones): the largest "
+                   "error grows by up to %s× (%s: %s against %s)." % (
+                       len(est_disc), "is" if len(est_disc) == 1 else "are",
+                       ratio(w["limited"]["max_abs"] / w["free"]["max_abs"]), _where(w),
                        g3(w["limited"]["max_abs"]), g3(w["free"]["max_abs"])))
     if leaves:
         out.append("On %d the exact B itself leaves its triangles' corner values by more than 0.05 R somewhere "
@@ -176,7 +177,8 @@ def write(run, figdir, rel):
 Every cubic and quadratic method is range-limited by default (`range: local`, `src/core/range.h`): each
 triangle stays within its own corner values, widened by 5 % of their spread or by the hump or dip its data
 show along an edge (a midpoint sample above both ends, corner planes that rise and fall along an edge;
-estimated planes only as far as the values around the triangle go), and never below 0 where its corners are
+estimated planes only as far as the values around the triangle go where it is long or obtuse, aspect > 8),
+and never below 0 where its corners are
 ≥ 0. The limiter projects the wedges' tangent planes and the edges' cross-boundary derivatives into that
 bound, so continuity is kept. `range: free` is the paper's cubic (matplotlib's and scipy's).
 Issue 12 asks that the default not spoil what works: on the reference scenes its error should be at most

@@ -20,8 +20,8 @@
  * flat data next to a thin strip cannot sink or swell, while a smooth peak or
  * ridge that passes between samples keeps its shape. What the limiter costs
  * against "free" is measured in docs/report.md "Range": within 1.1x on the
- * discontinuity meshes with midpoint planes, more on meshes with unflagged
- * jumps and with estimated planes on coarse or fine disc meshes. Range
+ * discontinuity meshes with midpoint planes, more (in RMS mostly) on meshes
+ * whose cells unflagged jumps and kinks cross. Range
  * "positive" keeps only the floor at 0.
  *
  * A piece is a Bézier patch, so it lies inside the convex hull of its
