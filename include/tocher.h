@@ -202,7 +202,8 @@ typedef enum {
     TC_METHOD_LINEAR4,           /* linear on the 4-split through the midpoint samples */
     TC_METHOD_CONSTANT,          /* one value per triangle: the corner mean */
     TC_METHOD_POWELL_SABIN,      /* C1 quadratic on the 6-split (incenter); C-1 cuts, C0 not honoured */
-    TC_METHOD_HERMITE            /* bicubic Hermite patches over quads (bilinear map) */
+    TC_METHOD_HERMITE,           /* bicubic Hermite patches over quads (bilinear map) */
+    TC_METHOD_COUNT              /* not a method: how many there are (tc_method_count()) */
 } tc_method;
 
 typedef enum {

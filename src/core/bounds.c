@@ -66,19 +66,6 @@ static int plane_kind(const struct tc_mesh *m, const tc__wedge_set *ws, tc_tange
     return PLANE_ESTIMATED;
 }
 
-/* Triangle t's longest edge over its shortest altitude (2/sqrt(3) when
- * equilateral, 2 for a grid's right triangle); infinite when degenerate. */
-static double aspect(const struct tc_mesh *m, int32_t t) {
-    const int32_t *v = m->tri + 3 * (size_t)t;
-    double e[3][2], longest = 0;
-    for (int k = 0; k < 3; k++) {
-        tc__sub(e[k], tc__vxy(m, v[(k + 1) % 3]), tc__vxy(m, v[k]));
-        longest = fmax(longest, tc__dot(e[k], e[k]));
-    }
-    double twice_area = fabs(tc__cross(e[0], e[2]));
-    return twice_area > 0 ? longest / twice_area : INFINITY;
-}
-
 /* The humps and dips triangle t's edges show (i -> j). A midpoint sample above
  * both ends (below both) is an observed one: the parabola through the three
  * samples has a Bézier net that passes the ends by 4/3 of the sample's
@@ -88,7 +75,7 @@ static double aspect(const struct tc_mesh *m, int32_t t) {
  * such an edge passes the ends by about a third of the smaller slope. */
 static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
                   tc_tangents mode, int32_t t, int ch, extent *ext) {
-    int nc = m->nc, shaped = aspect(m, t) <= TC_RANGE_SHAPED_ASPECT;
+    int nc = m->nc, shaped = tc__face_aspect(m, t) <= TC_RANGE_SHAPED_ASPECT;
     for (int i = 0; i < 3; i++) {
         size_t ci = 3 * (size_t)t + i, cj = 3 * (size_t)t + (i + 1) % 3;
         if (m->mid_has && m->mid_has[ci]) {

@@ -121,6 +121,28 @@ static inline void tc__at(const struct tc_mesh *m, int32_t t, double x, double y
     tc__frame_at(&f, x, y, at);
 }
 
+/* Triangle t's area (>= 0). */
+static inline double tc__face_area(const struct tc_mesh *m, int32_t t) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    double e1[2], e2[2];
+    tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
+    tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
+    return 0.5 * fabs(tc__cross(e1, e2));
+}
+
+/* Triangle t's longest edge over its shortest altitude (2/sqrt(3) when
+ * equilateral, 2 for a grid's right triangle); infinite when degenerate. */
+static inline double tc__face_aspect(const struct tc_mesh *m, int32_t t) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    double e[3][2], longest = 0;
+    for (int k = 0; k < 3; k++) {
+        tc__sub(e[k], tc__vxy(m, v[(k + 1) % 3]), tc__vxy(m, v[k]));
+        longest = fmax(longest, tc__hypot(e[k][0], e[k][1]));
+    }
+    double twice_area = fabs(tc__cross(e[0], e[2]));
+    return twice_area > 0 ? longest * longest / twice_area : INFINITY;
+}
+
 /* Barycentric coordinates of (x, y) in triangle t and the gradients of lam[1]
  * and lam[2], as tc__frame_at computes them. */
 static inline void tc__bary(const struct tc_mesh *m, int32_t t, double x, double y,

@@ -195,23 +195,12 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
  * (docs/stability.md: the ordinates vary by |g| L along it, by |g| h across). */
 #define ASPECT_WARN 1e4
 
-static double aspect_ratio(const struct tc_mesh *m, int32_t t) {
-    const int32_t *v = m->tri + 3 * (size_t)t;
-    double e[3][2], longest = 0;
-    for (int k = 0; k < 3; k++) {
-        tc__sub(e[k], tc__vxy(m, v[(k + 1) % 3]), tc__vxy(m, v[k]));
-        longest = fmax(longest, tc__hypot(e[k][0], e[k][1]));
-    }
-    double area2 = fabs(tc__cross(e[0], e[2])); /* twice the area */
-    return longest * longest / area2;
-}
-
 /* One warning for all the slivers, naming the worst. */
 static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
     int32_t n = 0, worst = -1;
     double worst_ar = 0;
     for (int32_t t = 0; t < m->nt; t++) {
-        double ar = aspect_ratio(m, t);
+        double ar = tc__face_aspect(m, t);
         if (ar <= ASPECT_WARN) continue;
         n++;
         if (ar > worst_ar) worst_ar = ar, worst = t;

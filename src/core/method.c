@@ -47,6 +47,8 @@ static const tc__method methods[] = {
                            TC_HONOR_ALL, TC_C1, PLANES | TWIST, 1, TC_HERMITE_GEOM},
 };
 #define NMETHODS ((int)(sizeof methods / sizeof methods[0]))
+/* A method added to tc_method without its row here does not compile. */
+_Static_assert(NMETHODS == TC_METHOD_COUNT, "every tc_method needs a row in methods[]");
 
 const tc__method *tc__method_of(tc_method m) {
     return (int)m >= 0 && (int)m < NMETHODS && methods[m].name ? &methods[m] : NULL;

@@ -210,14 +210,6 @@ static void fit(const hood *h, const double *zv, int nc, double *g) {
 
 /* ---- sectors ---- */
 
-static double face_area(const struct tc_mesh *m, int32_t t) {
-    const int32_t *v = m->tri + 3 * (size_t)t;
-    double e1[2], e2[2];
-    tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
-    tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
-    return 0.5 * fabs(tc__cross(e1, e2));
-}
-
 /* The edge at v between the faces of consecutive corners a and b. */
 static int32_t between(const struct tc_mesh *m, int32_t a, int32_t b) {
     int32_t t = a / 3, k = a % 3, tb = b / 3;
@@ -241,7 +233,7 @@ static void fit_sector(const struct tc_mesh *m, const tc__wedge_set *ws, const t
     for (int i = 0; i < len; i++) {
         int32_t t = cs[(s0 + i) % w->count] / 3;
         add_face(m, cz, fs, &h, t, 1);
-        *area += face_area(m, t);
+        *area += tc__face_area(m, t);
     }
     for (int L = 2; L <= RINGS_MAX; L++) {
         if (L > RINGS_ALWAYS && h.n - h.ndup >= CUBIC_MIN) break;

@@ -39,14 +39,6 @@ static const double *avg_of(const plane_rules *pr, int32_t w, int ch) {
     return pr->avg + (2 * ((size_t)w * pr->nc + ch));
 }
 
-static double face_area(const struct tc_mesh *m, int32_t t) {
-    const int32_t *v = m->tri + 3 * (size_t)t;
-    double e1[2], e2[2];
-    tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
-    tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
-    return 0.5 * fabs(tc__cross(e1, e2));
-}
-
 /* average "area": the area-weighted mean of the faces' gradients. It is linear in
  * the data (scaling every value scales the plane, which DESIGN.md's numerics
  * ask of the whole reconstruction), and a sliver — a face of near-zero area
@@ -58,7 +50,7 @@ static void area_mean(const struct tc_mesh *m, const tc__wedge_set *ws, const tc
     double sum[2 * TC_MAX_CHANNELS] = {0}, wsum = 0;
     for (int32_t i = 0; i < w->count; i++) {
         int32_t c = ws->corners[w->first + i];
-        double a = face_area(m, c / 3);
+        double a = tc__face_area(m, c / 3);
         for (size_t k = 0; k < stride; k++) sum[k] += a * inputs[(size_t)c * stride + k];
         wsum += a;
     }
@@ -329,7 +321,7 @@ static void vertex_planes(const struct tc_mesh *m, const tc__wedge_set *ws, cons
         double sum[2 * TC_MAX_CHANNELS] = {0}, wsum = 0;
         for (w1 = w0; w1 < ws->nw && ws->w[w1].v == ws->w[w0].v; w1++) {
             double a = 0;
-            for (int32_t i = 0; i < ws->w[w1].count; i++) a += face_area(m, ws->corners[ws->w[w1].first + i] / 3);
+            for (int32_t i = 0; i < ws->w[w1].count; i++) a += tc__face_area(m, ws->corners[ws->w[w1].first + i] / 3);
             for (size_t k = 0; k < stride; k++) sum[k] += a * avg[(size_t)w1 * stride + k];
             wsum += a;
         }

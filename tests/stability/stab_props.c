@@ -25,6 +25,7 @@ static promise promises_of(const tc_options *o) {
     case TC_METHOD_CLOUGH_TOCHER: return (promise){1, 1, 1, 1, 1, 1};
     case TC_METHOD_CLOUGH_TOCHER_C1: return (promise){1, 1, 1, 1, 1, 0};
     case TC_METHOD_POWELL_SABIN: return (promise){1, 1, 1, 0, 0, 2};
+    case TC_METHOD_COUNT: break; /* not a method */
     }
     return (promise){0, 0, 0, 0, 0, 1};
 }
