@@ -195,6 +195,31 @@ static double corner_share(const bench_reference *ref) {
     return all > 0 ? near / all : NAN;
 }
 
+/* The squared error of the tile in ref->tile, all of it and the part in pixels
+ * whose triangle touches a flat one (results.h, sq_err_by_flat). */
+static void flat_error(const bench_reference *ref, const tc_mesh *m, bench_result *out) {
+    int32_t nv = tc_mesh_vertex_count(m), nt = tc_mesh_triangle_count(m);
+    const int32_t *tri = tc_mesh_triangles(m);
+    unsigned char *flat_vertex = calloc((size_t)nv, 1);
+    out->sq_err = out->sq_err_by_flat = NAN;
+    if (!flat_vertex) return;
+    for (int32_t t = 0; t < nt; t++) {
+        double a = tc_mesh_corner_value(m, t, 0)[0];
+        if (a == tc_mesh_corner_value(m, t, 1)[0] && a == tc_mesh_corner_value(m, t, 2)[0])
+            for (int k = 0; k < 3; k++) flat_vertex[tri[3 * t + k]] = 1;
+    }
+    double all = 0, by_flat = 0;
+    for (size_t k = 0; k < (size_t)BENCH_W * BENCH_W; k++) {
+        double e = ref->ref[k] - ref->tile[k];
+        int32_t t = ref->owner[k];
+        all += e * e;
+        if (t >= 0 && (flat_vertex[tri[3 * t]] || flat_vertex[tri[3 * t + 1]] || flat_vertex[tri[3 * t + 2]]))
+            by_flat += e * e;
+    }
+    free(flat_vertex);
+    out->sq_err = all, out->sq_err_by_flat = by_flat;
+}
+
 /* One render with owners, outside the timed ones (which write no owners, as
  * a caller that only wants the picture would): the overshoot against each
  * pixel's own triangle, and the box's corner share. */
@@ -203,6 +228,7 @@ static void untimed_render(const bench_reference *ref, const bench_prepared *p, 
     tc_render(p->recon, p->loc, &ref->vp, &ro, ref->tile, ref->owner);
     tc_overshoot(p->mesh, ref->tile, ref->owner, BENCH_W, BENCH_W, BENCH_OVER_THRESHOLD, &out->over);
     out->corner_share = corner_share(ref);
+    flat_error(ref, p->mesh, out);
 }
 
 int bench_measure_begin(const bench_reference *ref, const tc_scene_mesh *sm, int method, bench_result *out,

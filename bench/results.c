@@ -44,7 +44,7 @@ int bench_results_write_csv(const bench_results *rs, const char *path) {
                        "range,status,vertices,triangles,flagged_c0,flagged_cm1,worst_aspect,samples,gradient_samples,"
                        "mesh_ms,build_ms,build_reps,render_ms,run_ms,max_abs,rms,mean_rel,scale,pixels,outside,"
                        "over_negative,over_beyond,over_worst,exact_over_beyond,exact_over_worst,tangent_impact,tangent_err,tangent_err_rms,tangent_x,tangent_y,tangent_scene,tangent_used,"
-                       "corner_share,note\n");
+                       "corner_share,sq_err,sq_err_by_flat,note\n");
     for (int i = 0; i < rs->n; i++) {
         const bench_result *r = &rs->r[i];
         const bench_mesh_spec *m = &bench_meshes[r->mesh];
@@ -74,6 +74,8 @@ int bench_results_write_csv(const bench_results *rs, const char *path) {
             tc_strbuf_puts(&b, ",,,,,,,");
         if (r->ok && r->corner_share == r->corner_share) tc_strbuf_printf(&b, "%.4f,", r->corner_share);
         else tc_strbuf_puts(&b, ",");
+        if (r->ok) tc_strbuf_printf(&b, "%.9g,%.9g,", r->sq_err, r->sq_err_by_flat);
+        else tc_strbuf_puts(&b, ",,");
         bench_csv_text(&b, r->note);
         tc_strbuf_putc(&b, '\n');
     }

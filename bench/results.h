@@ -40,6 +40,11 @@ typedef struct {
      * that lies within BENCH_CORNER_RADIUS of the footprint's corners (from the
      * untimed render); NAN for other scenes. */
     double corner_share;
+    /* The untimed render's summed squared error (ref - tile)^2, and the part of
+     * it in pixels whose triangle shares a vertex with a flat one (all its
+     * corner values equal): where a range-limited cubic must keep its planes
+     * flat, so an unflagged step next to flat data cannot be followed steeply. */
+    double sq_err, sq_err_by_flat;
 } bench_result;
 
 typedef struct {

@@ -389,7 +389,8 @@ typedef struct {
 double tc_now_ms(void);
 
 /* Renders r over vp into values[height][width][C] (each pixel the double that
- * tc_eval_points gives at its centre, rounded once to float) and, if owner is
+ * tc_eval_points gives at its centre, rounded once to float; beyond the float
+ * range, +-FLT_MAX: never an infinity) and, if owner is
  * not NULL, owner[height][width] (the owning triangle, -1 outside the mesh).
  * Visits only the triangles that overlap the tile. The result is the same bit
  * for bit whatever the number of threads. o may be NULL. */

@@ -75,7 +75,9 @@ static double cab_linear(const double *o, int a, int b, double tau) {
 
 /* The paper's Project (wedges "literal") tilts the averaged plane about the
  * edge until it contains the control polygon's middle leg; as 1 + a*s -> 0 the
- * tilt goes vertical and the plane's slope grows without bound. Above
+ * tilt goes vertical and the plane's slope grows without bound. Past vertical
+ * (the projected normal points down, N_z < 0) it is a plane again, gradient
+ * -N_xy / N_z: only N_z = 0 itself is singular, and the slope says how near. Above
  * PROJECT_WARN times the larger of the averaged slope and the leg's slope the
  * result is reported; above PROJECT_LIMIT it is refused (a gradient 1e3 times
  * the data's is no reconstruction of it). `corrected` has no such singularity. */
@@ -117,7 +119,7 @@ static int cab_salesin(const tc__ct_input *ci, int32_t t, int k, int ch, const g
         double D[3] = {e[0], e[1], rise}, N[3] = {-gn[0], -gn[1], 1};
         double q = (N[0] * D[0] + N[1] * D[1] + N[2] * D[2]) / (D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
         double P[3] = {N[0] - q * D[0], N[1] - q * D[1], N[2] - q * D[2]};
-        if (!(P[2] > 0)) {
+        if (!(P[2] != 0)) { /* vertical: no plane (a downward normal is one, see above) */
             *amp = INFINITY;
             return -1;
         }

@@ -118,6 +118,14 @@ static void cover_row(const band *bd, const struct tc__slot *s, int32_t j, int32
     }
 }
 
+/* A double as the tile's float: rounded once, and beyond the float range the
+ * largest float of its sign, never an infinity (the doubles are finite: the
+ * ordinates are bounded, recon.c). */
+static inline float tile_float(double v) {
+    float f = (float)v;
+    return isinf(f) ? copysignf(FLT_MAX, f) : f;
+}
+
 static void cover(void *ctx, const struct tc__slot *s) {
     const band *bd = ctx;
     const tc_viewport *vp = bd->jb->vp;
@@ -151,6 +159,8 @@ static void shade_run(const job *jb, const tc__eval_frame *f, int32_t t, const d
     const double *coef = r->coef + (size_t)t * nc * r->ncoef;
     if (r->eval == tc__ct_eval) {
         tc__ct_span(f, coef, nc, xs, y, n, out, NULL);
+        for (size_t i = 0; i < (size_t)n * nc; i++) /* as tile_float */
+            if (isinf(out[i])) out[i] = copysignf(FLT_MAX, out[i]);
         for (int ch = 0; ch < nc; ch++) /* as tc__floored: (float) keeps the sign */
             for (int32_t i = 0; r->floor0[ch] && i < n; i++)
                 if (out[(size_t)i * nc + ch] < 0) out[(size_t)i * nc + ch] = 0;
@@ -161,7 +171,7 @@ static void shade_run(const job *jb, const tc__eval_frame *f, int32_t t, const d
         tc__eval_point at;
         tc__frame_at(f, xs[i], y, &at);
         for (int ch = 0; ch < nc; ch++) r->eval(coef + (size_t)ch * r->ncoef, &at, &v[ch], NULL);
-        for (int ch = 0; ch < nc; ch++) out[(size_t)i * nc + ch] = (float)tc__floored(r, ch, v[ch]);
+        for (int ch = 0; ch < nc; ch++) out[(size_t)i * nc + ch] = tile_float(tc__floored(r, ch, v[ch]));
     }
 }
 
@@ -184,7 +194,7 @@ static void shade_band(const band *bd) {
             if (t < 0) {
                 for (int32_t p = 0; p < e - i; p++)
                     for (int ch = 0; ch < nc; ch++)
-                        out[(size_t)p * nc + ch] = jb->ropt->background ? (float)jb->ropt->background[ch] : 0.0f;
+                        out[(size_t)p * nc + ch] = jb->ropt->background ? tile_float(jb->ropt->background[ch]) : 0.0f;
             } else {
                 if (t != cur) tc__frame(jb->r->m, t, &f), cur = t;
                 shade_run(jb, &f, t, jb->xs + i, y, e - i, out);

@@ -7,6 +7,7 @@
 
 #include "core/alloc.h"
 #include "core/mesh.h"
+#include "core/option_table.h"
 #include "core/range.h"
 #include "core/recon.h"
 
@@ -29,12 +30,18 @@ static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
         for (size_t i = 0; i < per_tri; i++) {
             double c = r->coef[(size_t)t * per_tri + i];
             if (isfinite(c) && fabs(c) <= TC_COEF_MAX) continue;
-            char path[48];
+            char path[48], size[64];
             tc__elem_path(r->m, t, path, sizeof path);
+            if (isnan(c)) snprintf(size, sizeof size, "is not a number (two overflows of opposite sign met)");
+            else if (isinf(c)) snprintf(size, sizeof size, "overflows the double range");
+            else snprintf(size, sizeof size, "is %.3g, beyond %.0e", c, TC_COEF_MAX);
             return tc_diags_add(dg, TC_SEV_ERROR, path,
-                                "the reconstruction overflows here (ordinate %s = %g): the tangent planes at its corners "
-                                "are too steep for its size, or its values too large",
-                                r->labels[i % r->ncoef], c);
+                                "the reconstruction overflows here: its ordinate %s %s; %s", r->labels[i % r->ncoef],
+                                size,
+                                r->method->uses & TC__USES_PLANES
+                                    ? "the tangent planes at its corners are too steep for its size, or its values "
+                                      "too large"
+                                    : "its values are too large");
         }
     return TC_OK;
 }

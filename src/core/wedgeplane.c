@@ -245,7 +245,9 @@ static void corrected(const plane_rules *pr, int32_t wi, int ch, double out[2]) 
  * 3(s_next - s_prev)>) with N the plane of the last side visited (next), in 3D
  * normal form. As the projection goes vertical (1 + a s -> 0) its slope grows
  * without bound: *amp is that slope over the larger side slope, and the result
- * is refused (-1) above PROJECT_LIMIT, reported above PROJECT_WARN (as in ct.c). */
+ * is refused (-1) above PROJECT_LIMIT, reported above PROJECT_WARN (as in ct.c).
+ * Past vertical (P_z < 0) the normal points down but is a plane's, gradient
+ * -P_xy / P_z, like any other: only P_z = 0 is singular. */
 #define PROJECT_WARN 10.0
 #define PROJECT_LIMIT 1e3
 static int literal_collinear(const tc__wedge *w, const double gp[2], const double gn[2], double out[2], double *amp) {
@@ -255,7 +257,7 @@ static int literal_collinear(const tc__wedge *w, const double gp[2], const doubl
     double k = (N[0] * D[0] + N[1] * D[1] + N[2] * D[2]) / (D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
     double P[3] = {N[0] - k * D[0], N[1] - k * D[1], N[2] - k * D[2]};
     *amp = INFINITY;
-    if (!(P[2] > 0)) return -1;
+    if (!(P[2] != 0)) return -1; /* vertical: no plane */
     tc__normal_to_grad(P, out);
     double inputs = fmax(tc__hypot(gp[0], gp[1]), tc__hypot(gn[0], gn[1])), g = tc__hypot(out[0], out[1]);
     *amp = inputs > 0 ? g / inputs : g > 0 ? INFINITY : 1;

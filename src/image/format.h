@@ -54,6 +54,8 @@ typedef struct {
     int display;              /* display-referred: values are v * 2^exposure through the sRGB transfer
                                * (unless "linear"), clamped and quantized; else the linear floats */
     int plugin;               /* encoded by the OpenImageIO plugin (else written in C, codec.c) */
+    double max_sample;        /* linear formats: the largest |value| a sample holds (a value beyond is
+                               * written as that, with a warning, api.c); 0 for display-referred ones */
 } tc_img_traits;
 
 /* The row of format f, or NULL if f is not a format. */

@@ -245,6 +245,28 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
     return TC_OK;
 }
 
+/* A linear format's samples hold values up to its max_sample (float: FLT_MAX,
+ * which the render never passes; half: 65504). Beyond, a value is written as
+ * that bound, and a warning says how many and how large: the encoders would
+ * otherwise write infinities that /v1/evaluate does not give. */
+static void saturate(const job *j, int fmt, tile *t, tc_api_result *res) {
+    double bound = tc_img_traits_of((tc_img_format)fmt)->max_sample;
+    size_t n = (size_t)j->req->viewport.width * j->req->viewport.height * (size_t)tc_mesh_channel_count(j->mesh);
+    if (!(bound > 0)) return;
+    float b = (float)bound;
+    int64_t count = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (!(fabsf(t->values[i]) >= b)) continue; /* the tile holds no NaN (tc_render) */
+        count++;
+        t->values[i] = copysignf(b, t->values[i]);
+    }
+    if (count)
+        tc_diags_add(&res->diags, TC_SEV_WARNING, "format",
+                     "%lld samples reach or pass the largest value %s holds, %.6g: they are written as that, with "
+                     "their sign (/v1/evaluate gives the values in double precision)",
+                     (long long)count, tc_img_format_name((tc_img_format)fmt), bound);
+}
+
 static int encode(const job *j, int fmt, const tile *t, tc_strbuf *out, tc_api_result *res) {
     const tc_request *req = j->req;
     int nc = tc_mesh_channel_count(j->mesh);
@@ -300,7 +322,7 @@ int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_li
             if (rc == TC_ETIMEOUT)
                 tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while rendering");
             res->status = rc == TC_OK ? 200 : rc == TC_ETIMEOUT ? 503 : rc == TC_EINVAL ? 422 : 500;
-            if (rc == TC_OK) encode(&j, fmt, &t, out, res);
+            if (rc == TC_OK) saturate(&j, fmt, &t, res), encode(&j, fmt, &t, out, res);
             lap(res, TC_PHASE_ENCODE, &t0);
         }
     }

@@ -739,6 +739,26 @@ def section_images(D):
         ("format raw wins over Accept: image/png", SHADOW, {"format": "raw"}, "image/png", "raw", (ref, outside), 0.0,
          0, False),
     ]
+    # values beyond what a format's samples hold: written as its largest value, with a warning header
+    square = {"vertices": [[0, 0], [1, 0], [1, 1], [0, 1]], "triangles": [[0, 1, 2], [0, 2, 3]], "method": "linear",
+              "viewport": {"x0": 0, "y0": 0, "x1": 1, "y1": 1, "width": 8, "height": 8}}
+    for fmt, big, bound in (("exr-half", 1e6, 65504.0), ("exr", 1e300, 3.4028234663852886e38),
+                            ("tiff", -1e300, 3.4028234663852886e38)):
+        r = post(D, "/v1/render", dict(square, values=[big, big / 5, big, big / 5], format=fmt))
+        errs = []
+        try:
+            data = np.asarray(decode(r.body, fmt).px[..., 0], dtype=np.float64)
+            if not np.isfinite(data).all():
+                errs.append("infinite samples")
+            if abs(abs(float(data.flat[0])) - bound) > bound * 1e-6:
+                errs.append("corner sample %r, not +-%g" % (float(data.flat[0]), bound))
+        except Exception as e:
+            errs.append("%r" % e)
+        warn = r.headers.get("Tocher-Warning", "")
+        if "largest value %s holds" % fmt not in warn:
+            errs.append("no warning header (%r)" % warn[:120])
+        check("render %s of values beyond its range: +-%g, finite, with a warning" % (fmt, bound),
+              r.status == 200 and not errs, "; ".join(errs) or r.brief())
     for name, mesh, extra, accept, fmt, (rf, out), bg, exposure, linear in variants:
         doc = with_(mesh, viewport=VA, **extra)
         headers = dict(JSON_H)

@@ -1,5 +1,7 @@
 /* test_api.c — unit tests of the JSON API (src/io/api.c): request bytes -> response bytes
  * for ordinates and evaluate, problem documents, determinism and exact number round-trips. */
+#include <float.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -850,4 +852,51 @@ TEST(api_eval_cubic_exact_at_vertices) {
                        " \"points\": [[0,0],[1,0],[0,1]]}", NULL, &out, &res) == 200);
     CHECK_STR_CONTAINS(out.buf, "\"values\":[0.25,0.1,0.7]");
     done(&out, &res, NULL);
+}
+
+/* ---- tiles of values beyond what a format's samples hold ---- */
+
+/* Values near 1e300 (valid: the ordinates stay within 1e300) render to float
+ * tiles as +-FLT_MAX, never infinities, with a warning (issue 14: 87 of 6 000
+ * extreme meshes gave raw/EXR/TIFF tiles with infinities, and said nothing).
+ * The formats OpenImageIO writes (exr-half: 65504) are checked through the
+ * daemon (tests/endpoint), so this process never loads the plugin. */
+static const char *const HUGE_TILE =
+    "{\"vertices\": [[0,0],[1,0],[1,1],[0,1]], \"triangles\": [[0,1,2],[0,2,3]], \"values\": [%s, %s, %s, %s],"
+    " \"method\": \"linear\", \"format\": \"%s\","
+    " \"viewport\": {\"x0\": 0, \"y0\": 0, \"x1\": 1, \"y1\": 1, \"width\": 8, \"height\": 8}}";
+
+static int render_huge(const char *a, const char *b, const char *fmt, tc_strbuf *out, tc_api_result *res) {
+    char body[512];
+    snprintf(body, sizeof body, HUGE_TILE, a, b, a, b, fmt);
+    tc_strbuf_init(out);
+    tc_api_result_init(res);
+    return tc_api_render_as(body, strlen(body), -1, NULL, out, res);
+}
+
+static int warnings_with(const tc_api_result *res, const char *needle) {
+    int n = 0;
+    for (int i = 0; i < res->diags.count; i++)
+        n += res->diags.items[i].severity == TC_SEV_WARNING && strstr(res->diags.items[i].message, needle) != NULL;
+    return n;
+}
+
+TEST(api_render_saturates_to_the_format_with_a_warning) {
+    tc_strbuf out;
+    tc_api_result res;
+    CHECK(render_huge("1e300", "-1e300", "raw", &out, &res) == 200 && out.len == 64 * sizeof(float));
+    int inf = 0, at_max = 0;
+    for (size_t i = 0; i + sizeof(float) <= out.len; i += sizeof(float)) {
+        float f;
+        memcpy(&f, out.buf + i, sizeof f);
+        inf += isinf(f) || isnan(f), at_max += fabsf(f) == FLT_MAX;
+    }
+    CHECK_MSG(inf == 0 && at_max > 0, "%d infinite samples, %d at FLT_MAX", inf, at_max);
+    CHECK_MSG(warnings_with(&res, "largest value raw holds") == 1, "%d warnings", res.diags.count);
+    tc_strbuf_free(&out);
+    tc_api_result_free(&res);
+    /* Within range: no warning. */
+    CHECK(render_huge("1e30", "-1e30", "raw", &out, &res) == 200 && warnings_with(&res, "largest value") == 0);
+    tc_strbuf_free(&out);
+    tc_api_result_free(&res);
 }

@@ -783,18 +783,34 @@ TEST(validate_many_errors_bounded) {
 /* A 2x2 grid of cells over [-1,1]^2, centre vertex 4. The line y = 0 through 4
  * is C-1 on its left half (3-4) and C0 on its right half (4-5), so 4 is a C-1
  * vertex with exactly two collinear delimiters: two 180-degree wedges, upper and
- * lower, coupled across 4-5. Given tangent planes: gradient g_up on every corner
- * of the upper triangles, g_lo on the lower ones.
+ * lower, coupled across 4-5. Given tangent planes: gradient a = (1, a_y) on
+ * every corner of the upper triangles, (-10, 0) on the lower ones.
  *
  * Literal step 4 for the upper wedge (side A = the C0 edge to +x with the coupled
- * plane c = Avg(g_up, g_lo), side B = the C-1 edge to -x with its own plane a)
- * projects N = (-a, 1) onto the plane containing D = (-2, 0, -(a_x + c_x)):
- * P_z = 1 + (a_x^2 - c_x^2) / (4 + (a_x + c_x)^2), which is 0 where
- * a_x (a_x + c_x) = -2 (the paper's 1 + a s = 0) and negative beyond. With
- * a = (1, 10) and g_lo = (-10, 0), the averaged c_x is about -4.5 (the steep
- * cross slope of a gives it little weight): a_x (a_x + c_x) ~ -3.5, past the
- * singular point. With a = (1, 0), c_x ~ -0.36 and nothing is singular. */
-TEST(validate_literal_project_singular) {
+ * plane c = Avg(a, lower), Figure 6's average of unit normals; side B = the C-1
+ * edge to -x with its own plane a) projects N = (-a, 1) onto the plane
+ * containing D = (-2, 0, -(a_x + c_x)). Its z component P_z falls from 1.2 at
+ * a_y = 0 through 0 (the paper's 1 + a s = 0) to -0.19 at a_y = 10. Only P_z = 0
+ * is singular: past it the projected normal points down, but it is still a
+ * plane's, with gradient -P_xy / P_z (issue 14: the past-vertical side was
+ * refused). The test computes P on its own and bisects a_y for P_z = 0. */
+typedef struct {
+    double pz, g[2];
+} literal_project;
+
+static literal_project literal_project_at(double a_y) {
+    const double a[2] = {1, a_y}, lo[2] = {-10, 0};
+    double n1[3] = {-a[0], -a[1], 1}, n2[3] = {-lo[0], -lo[1], 1}, s[3];
+    double l1 = sqrt(n1[0] * n1[0] + n1[1] * n1[1] + 1), l2 = sqrt(n2[0] * n2[0] + n2[1] * n2[1] + 1);
+    for (int i = 0; i < 3; i++) s[i] = n1[i] / l1 + n2[i] / l2;
+    double c_x = -s[0] / s[2];
+    double D[3] = {-2, 0, -(a[0] + c_x)}, N[3] = {-a[0], -a[1], 1};
+    double q = (N[0] * D[0] + N[1] * D[1] + N[2] * D[2]) / (D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
+    double P[3] = {N[0] - q * D[0], N[1] - q * D[1], N[2] - q * D[2]};
+    return (literal_project){P[2], {-P[0] / P[2], -P[1] / P[2]}};
+}
+
+TEST(validate_literal_project_singular_only_when_vertical) {
     const double xy[18] = {-1, -1, 0, -1, 1, -1, -1, 0, 0, 0, 1, 0, -1, 1, 0, 1, 1, 1};
     const int32_t tri[24] = {0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7};
     const double v[9] = {1, 1.2, 1.4, 1.1, 1.3, 1.5, 1.2, 1.4, 1.6};
@@ -802,53 +818,107 @@ TEST(validate_literal_project_singular) {
     const int32_t cm1v[2] = {3, 4}, c0v[2] = {4, 5};
     int32_t st0[2], st1[2];
     double cg[8][3][2];
-    double up_y = 10;
-    for (int t = 0; t < 8; t++)
-        for (int k = 0; k < 3; k++) {
-            int up = t >= 4; /* triangles 4..7 are the upper cells */
-            cg[t][k][0] = up ? 1 : -10;
-            cg[t][k][1] = up ? up_y : 0;
-        }
     tc_mesh_desc d = square();
     d.nverts = 9, d.xy = xy, d.ntris = 8, d.tris = tri, d.values = v;
     d.ncorner_gradients = 8, d.corner_gradients_tri = cg_tri, d.corner_gradients = &cg[0][0][0];
     d.cm1 = line(st1, cm1v, 2);
     d.c0 = line(st0, c0v, 2);
     tc_options lit = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_LITERAL);
-    RECON_FAILS(&d, lit, "vertices[4]", "vertex 4", "Project is singular", "corrected");
-    tc_diags dg;
-    tc_diags_init(&dg);
-    RECON_PASSES(&d, opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_CORRECTED), &dg);
-    for (int t = 4; t < 8; t++)
-        for (int k = 0; k < 3; k++) cg[t][k][1] = 0;
-    RECON_PASSES(&d, lit, &dg);
-    drop_range_free_warnings(&dg);
-    CHECK(dg.count == 0);
-    tc_diags_free(&dg);
+    double lo_y = 0, hi_y = 10; /* P_z > 0 at lo_y, < 0 at hi_y */
+    CHECK(literal_project_at(lo_y).pz > 0 && literal_project_at(hi_y).pz < 0);
+    for (int i = 0; i < 200 && hi_y - lo_y > 0; i++) {
+        double mid = 0.5 * (lo_y + hi_y);
+        if (mid == lo_y || mid == hi_y) break;
+        *(literal_project_at(mid).pz > 0 ? &lo_y : &hi_y) = mid;
+    }
+    const double cases[3] = {0, 10, lo_y}; /* up, past vertical, vertical to rounding */
+    for (int i = 0; i < 3; i++) {
+        for (int t = 0; t < 8; t++)
+            for (int k = 0; k < 3; k++) {
+                int up = t >= 4; /* triangles 4..7 are the upper cells */
+                cg[t][k][0] = up ? 1 : -10;
+                cg[t][k][1] = up ? cases[i] : 0;
+            }
+        if (i == 2) {
+            RECON_FAILS(&d, lit, "vertices[4]", "vertex 4", "Project is singular", "corrected");
+            continue;
+        }
+        tc_diags dg;
+        tc_diags_init(&dg);
+        tc_mesh *m = NULL;
+        tc_recon *r = NULL;
+        CHECK(tc_mesh_new(&d, &m, &dg) == TC_OK && tc_recon_new(m, &lit, &r, &dg) == TC_OK);
+        literal_project want = literal_project_at(cases[i]);
+        const double *g = r ? tc_recon_corner_gradients(r) + 2 * (3 * 6 + 0) : NULL; /* triangle 6 = (4, 5, 8), at 4 */
+        CHECK_MSG(g && fabs(g[0] - want.g[0]) <= 1e-12 * fabs(want.g[1]) && fabs(g[1] - want.g[1]) <= 1e-12 * fabs(want.g[1]),
+                  "a_y = %g: plane (%.17g, %.17g), Project gives (%.17g, %.17g) (P_z %.3g)", cases[i], g ? g[0] : NAN,
+                  g ? g[1] : NAN, want.g[0], want.g[1], want.pz);
+        tc_recon_free(r);
+        tc_mesh_free(m);
+        tc_diags_free(&dg);
+    }
 }
 
-/* cross_boundary "salesin" with wedges "literal": on edge (0, 1) both corners
- * have slope 1 along the edge but equal values, so the control polygon's middle
- * leg falls (rise -2 over length 1) against the averaged plane's slope +1; the
- * paper's Project of that normal onto the leg turns past vertical. */
-TEST(validate_salesin_literal_project_singular) {
-    const double g[8] = {1, 0, 1, 0, 1, 0, 1, 0};
-    const double flat[4] = {1, 1, 1, 1}, linear[4] = {1, 2, 2, 1}; /* linear = 1 + x */
+/* cross_boundary "salesin" with wedges "literal" on the unit square with flat
+ * values and the same given gradient (s, 0) at every corner: on an edge e the
+ * control polygon's middle leg falls by rise = -2 g.e while the averaged plane
+ * rises by g.e, so Project's normal has P_z = 0 exactly where |e|^2 = 2 (g.e)^2:
+ * the diagonal (1, 1) at s = 1, the sides at s = 1/sqrt 2. Below that P_z > 0;
+ * past it (s = 2: every edge) the normal points down and is still a plane's
+ * (accepted; refused before issue 14); at s = 1 the diagonal is vertical. */
+TEST(validate_salesin_literal_project_singular_only_when_vertical) {
+    const double flat[4] = {1, 1, 1, 1};
+    double g[8];
     tc_mesh_desc d = square();
     d.values = flat, d.gradients = g;
     tc_options o = opts(TC_METHOD_CLOUGH_TOCHER, TC_TANGENTS_GIVEN, TC_WEDGES_LITERAL);
     o.cross_boundary = TC_CROSS_SALESIN;
-    RECON_FAILS(&d, o, "triangles[0]", "salesin", "singular on edge 0");
+    const double slopes[3] = {0.5, 2, 1};
+    for (int i = 0; i < 3; i++) {
+        for (int k = 0; k < 4; k++) g[2 * k] = slopes[i], g[2 * k + 1] = 0;
+        if (slopes[i] == 1) {
+            RECON_FAILS(&d, o, "triangles[0]", "salesin", "singular on edge 2");
+            continue;
+        }
+        tc_diags dg;
+        tc_diags_init(&dg);
+        RECON_PASSES(&d, o, &dg);
+        tc_diags_free(&dg);
+    }
     tc_diags dg;
     tc_diags_init(&dg);
     o.wedges = TC_WEDGES_CORRECTED;
     RECON_PASSES(&d, o, &dg);
-    o.wedges = TC_WEDGES_LITERAL;
-    d.values = linear;
-    RECON_PASSES(&d, o, &dg);
-    drop_range_free_warnings(&dg);
-    CHECK(dg.count == 0);
     tc_diags_free(&dg);
+}
+
+/* Values near the double range: the ordinates overflow, and the refusal says
+ * so in words ("-inf" and "nan" printed as numbers told nobody anything:
+ * issue 14), naming the cause that fits the method. */
+TEST(validate_overflow_said_in_words) {
+    const double huge[4] = {1e308, -1e308, 1e308, -1e308};
+    tc_mesh_desc d = square();
+    d.values = huge;
+    tc_options o = opts(TC_METHOD_CONSTANT, TC_TANGENTS_AUTO, TC_WEDGES_CORRECTED);
+    RECON_FAILS(&d, o, "triangles[0]", "ordinate mean overflows the double range", "its values are too large");
+    o.method = TC_METHOD_LINEAR;
+    RECON_FAILS(&d, o, "triangles[0]", "is 1e+308, beyond 1e+300", "its values are too large");
+    o.method = TC_METHOD_CLOUGH_TOCHER;
+    RECON_FAILS(&d, o, "triangles[0]", "beyond 1e+300", "tangent planes");
+    for (int m = 0; m < tc_method_count(); m++) {
+        tc_mesh *mesh = NULL;
+        tc_recon *r = NULL;
+        tc_diags dg;
+        tc_diags_init(&dg);
+        o.method = (tc_method)m;
+        if (tc_mesh_new(&d, &mesh, &dg) == TC_OK && tc_recon_new(mesh, &o, &r, &dg) != TC_OK)
+            for (int i = 0; i < dg.count; i++)
+                CHECK_MSG(!strstr(dg.items[i].message, "inf") && !strstr(dg.items[i].message, "nan"),
+                          "%s: %s", tc_method_name((tc_method)m), dg.items[i].message);
+        tc_recon_free(r);
+        tc_mesh_free(mesh);
+        tc_diags_free(&dg);
+    }
 }
 
 /* ---- each finding reported once; the rejections added after the first catalogue ---- */
