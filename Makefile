@@ -1,10 +1,13 @@
 # Makefile — builds the tocher core library, the CLI and the tests.
-# `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan.
+# `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan
+# with the core's assertions on.
 
 CC      ?= cc
 BUILD   ?= build
 OPT     ?= -O2
 SAN     ?=
+# -DTC_DEBUG turns on the core's TC_ASSERTs (src/core/assert.h); `make check` sets it.
+ASSERTS ?=
 CFLAGS  ?=
 LDFLAGS ?=
 
@@ -21,7 +24,7 @@ CXX     ?= c++
 PYTHON  ?= /usr/bin/python3
 
 WARN     := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wvla
-ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(WARN) \
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(ASSERTS) $(WARN) \
              -Iinclude -Isrc $(CJSON_CFLAGS) -MMD -MP $(CFLAGS)
 ALL_LDFLAGS = $(SAN) $(LDFLAGS)
 LIBS     := $(CJSON_LIBS) -lm -lpthread -ldl
@@ -121,7 +124,7 @@ test-unit: $(BUILD)/test_unit
 	$(BUILD)/test_unit
 
 check: deps
-	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 \
+	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
 	  all build/san/test_unit
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/assert.h"
 #include "core/ct.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
@@ -219,6 +220,7 @@ const int tc__ct_sub[3][10] = {
 
 void tc__ct_eval_sub(const double o[TC_CT_ORDINATES], int sub, const double lam[3], const double dl1[2],
                      const double dl2[2], double *value, double *grad) {
+    TC_ASSERT(sub >= 0 && sub < 3);
     const int *s = tc__ct_sub[sub];
     int a = (sub + 1) % 3, b = (sub + 2) % 3;
     double A = lam[a] - lam[sub], B = lam[b] - lam[sub], C = 3 * lam[sub];

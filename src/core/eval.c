@@ -5,11 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/assert.h"
 #include "core/eval.h"
 #include "core/geom.h"
 #include "core/recon.h"
 
 void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y, double *value, double *grad) {
+    TC_ASSERT(r && t >= 0 && t < r->m->nt && value);
     tc__eval_point at;
     int nc = r->m->nc;
     tc__at(r->m, t, x, y, &at);
@@ -107,6 +109,7 @@ static visit *z_order(size_t n, const double *xy) {
  * visited in changes no bit of any result, only the time. */
 void tc_eval_points(const tc_recon *r, const tc_locator *L, size_t n, const double *xy, double *values,
                     double *grads, int32_t *tri) {
+    TC_ASSERT(r && L && (n == 0 || (xy && values)));
     int sort = n >= SORT_MIN_POINTS && n <= UINT32_MAX && r->m->nt >= sort_min_triangles;
     visit *order = sort ? z_order(n, xy) : NULL;
     for (size_t i = 0; i < n; i++) {

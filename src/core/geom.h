@@ -72,6 +72,7 @@ typedef struct {
 } tc__eval_frame;
 
 static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
+    TC_ASSERT(t >= 0 && t < m->nt && f);
     const int32_t *v = m->tri + 3 * (size_t)t;
     for (int i = 0; i < 3; i++) {
         const double *q = tc__vxy(m, v[i]);

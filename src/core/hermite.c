@@ -69,6 +69,19 @@ typedef struct {
     int ok;
 } candidate;
 
+/* A candidate (s, t) whose residual is at most this, times max(1, |x|), on the
+ * quad scaled to size ~1 is an exact solution: the map and Newton's polish take a
+ * few dozen roundings of numbers of size ~1, so an exact root lands within tens
+ * of ulps, while a wrong root of the quadratics misses by the quad's size. */
+#define INVERSE_EXACT (64 * DBL_EPSILON)
+
+/* A parameter this little outside [0, 1] is rounding of a point on the square's
+ * side (the roots' terms are of size ~1, each rounded by ~1e-16; a few dozen of
+ * them stay below 1e-14): it is placed on the side, so points of the quad are
+ * never evaluated as its extension. Far below any distance an extension is asked
+ * at. The value hermite.h states. */
+#define SQUARE_SNAP 1e-10
+
 /* Keeps c in *best if it is a better answer: an exact solution (residual at
  * rounding level) beats an inexact one, then the nearer to the square wins. */
 static void consider(candidate *best, candidate c, double tol) {
@@ -108,7 +121,7 @@ void tc__bilinear_inverse(const double P[4][2], const double d[2], double par[2]
     for (int k = 1; k < 4; k++) L = fmax(L, fmax(fabs(P[k][0]), fabs(P[k][1])));
     double B[2] = {P[1][0] / L, P[1][1] / L}, D[2] = {P[3][0] / L, P[3][1] / L};
     double E[2] = {(P[2][0] - P[1][0] - P[3][0]) / L, (P[2][1] - P[1][1] - P[3][1]) / L};
-    double x[2] = {d[0] / L, d[1] / L}, tol = 64 * DBL_EPSILON * fmax(1, tc__hypot(x[0], x[1]));
+    double x[2] = {d[0] / L, d[1] / L}, tol = INVERSE_EXACT * fmax(1, tc__hypot(x[0], x[1]));
     candidate best = {0, 0, INFINITY, INFINITY, 0};
     candidates_from(B, D, E, x, 0, tol, &best);
     candidates_from(B, D, E, x, 1, tol, &best);
@@ -120,8 +133,8 @@ void tc__bilinear_inverse(const double P[4][2], const double d[2], double par[2]
     }
     par[0] = best.ok ? best.s : 0, par[1] = best.ok ? best.t : 0;
     for (int i = 0; i < 2; i++) { /* rounding just outside the square lands on its side */
-        if (par[i] < 0 && par[i] >= -1e-10) par[i] = 0;
-        if (par[i] > 1 && par[i] <= 1 + 1e-10) par[i] = 1;
+        if (par[i] < 0 && par[i] >= -SQUARE_SNAP) par[i] = 0;
+        if (par[i] > 1 && par[i] <= 1 + SQUARE_SNAP) par[i] = 1;
     }
 }
 
@@ -143,6 +156,12 @@ static void jacobian(const double P[4][2], double s, double t, double xs[2], dou
         xt[i] = P[3][i] + s * e;
     }
 }
+
+/* |sin| of the angle between x_s and x_t below which the Jacobian counts as
+ * singular: inverting it amplifies rounding by 1/sin, so below 1e-12 (geom.h's
+ * TC_COLLINEAR_TOL, the same test on edge directions) the gradient would be
+ * mostly rounding; there the map is folded, which happens only in extension. */
+#define JACOBIAN_MIN_SIN 1e-12
 
 void tc__hermite_eval(const double *o, const tc__eval_point *at, double *value, double *grad) {
     const double *g = o + TC_HERMITE_GEOM;
@@ -170,7 +189,7 @@ void tc__hermite_eval(const double *o, const tc__eval_point *at, double *value, 
     double xs[2], xt[2];
     jacobian(P, par[0], par[1], xs, xt);
     double det = tc__cross(xs, xt);
-    if (!(fabs(det) > 1e-12 * tc__hypot(xs[0], xs[1]) * tc__hypot(xt[0], xt[1]))) {
+    if (!(fabs(det) > JACOBIAN_MIN_SIN * tc__hypot(xs[0], xs[1]) * tc__hypot(xt[0], xt[1]))) {
         jacobian(P, fmin(1, fmax(0, par[0])), fmin(1, fmax(0, par[1])), xs, xt);
         det = tc__cross(xs, xt);
     }
@@ -179,6 +198,12 @@ void tc__hermite_eval(const double *o, const tc__eval_point *at, double *value, 
 }
 
 /* ---- twists ---- */
+
+/* Relative rank tolerance of the twist fit (tc__lsq_solve's rtol): rows are unit
+ * directions, so a column below 1e-9 of the largest means the wedge's
+ * neighbours do not determine H, not a small second derivative; the fit then
+ * fails and H is 0. The bound the tangent fit uses (tanfit.c's FIT_RTOL). */
+#define TWIST_RTOL 1e-9
 
 /* Per wedge and channel the symmetric H = [hxx hxy; hxy hyy] that best maps
  * the offsets d_j of the wedge's neighbouring corners (the other corners of
@@ -212,7 +237,7 @@ static void wedge_hessian(const struct tc_mesh *m, const tc__wedge_set *ws, cons
             rows += 2;
         }
     }
-    int ok = tc__lsq_solve(A, rows, 3, Bm, nc, 1e-9, X) == 0; /* a face's two edges give rank 3 */
+    int ok = tc__lsq_solve(A, rows, 3, Bm, nc, TWIST_RTOL, X) == 0; /* a face's two edges give rank 3 */
     for (int ch = 0; ch < nc; ch++)
         for (int k = 0; k < 3; k++) H[3 * ch + k] = ok && isfinite(X[k][ch]) ? X[k][ch] : 0;
 }

@@ -15,7 +15,7 @@ extern const char *const tc__hermite_labels[TC_HERMITE_COEFS];
 /* The parameters par = (s, t) with x(s, t) = d for the bilinear map of the convex
  * quad P[0..3] (P[0] = 0: corners relative to the first), x(s, t) =
  * s P1 + t P3 + st (P2 - P1 - P3). Exact at the four corners; inside the quad
- * the root in [0,1]^2 (a value within 1e-10 outside is clamped onto it); outside,
+ * the root in [0,1]^2 (a value within 1e-10, SQUARE_SNAP, outside is clamped onto it); outside,
  * the nearest real solution, or the nearest point of the map's fold when
  * there is none. Always finite. */
 void tc__bilinear_inverse(const double P[4][2], const double d[2], double par[2]);

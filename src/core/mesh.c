@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/assert.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh_build.h"
@@ -244,10 +245,12 @@ static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     if ((rc = tc__samples_build(m, d, dg)) != TC_OK) return rc;
     warn_unused(m, dg);
     warn_slivers(m, dg);
+    TC_ASSERT_CHECK(tc__mesh_check, m); /* mesh.h's invariants, once every phase has run */
     return TC_OK;
 }
 
 int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags) {
+    TC_ASSERT(desc && out);
     *out = NULL;
     struct tc_mesh *m = calloc(1, sizeof *m);
     if (!m) return TC_ENOMEM;

@@ -3,6 +3,7 @@
 #ifndef TC_CORE_MESH_H
 #define TC_CORE_MESH_H
 
+#include "core/assert.h"
 #include "tocher.h"
 
 /* Corner (t, k) has id 3t+k. Edge k of triangle t joins corners k and (k+1)%3.
@@ -21,7 +22,8 @@
  *    (nbr[nbr[3t+k]*3 + nbr_k[3t+k]] == t);
  *  - flag[] is TC_CM1 on boundary edges and equal on both sides of an edge;
  *  - across a TC_C0 / TC_C1 edge the corner values at both ends agree;
- *  - all numbers are finite. */
+ *  - all numbers are finite.
+ * tc__mesh_check (invariants.c) checks these; tc_mesh_new asserts it (TC_DEBUG). */
 struct tc_mesh {
     int32_t nv, nt;
     int nc;
@@ -55,6 +57,7 @@ struct tc_mesh {
  * corners 0 and 2 also on corners 0 and 1 of triangle 2q+1. Returns how many
  * corner ids went to out (1 or 2). */
 static inline int tc__quad_corners(int32_t q, int k, int32_t out[2]) {
+    TC_ASSERT(q >= 0 && k >= 0 && k < 4 && out);
     int32_t t0 = 3 * (2 * q), t1 = 3 * (2 * q + 1);
     static const int8_t first[4] = {0, 1, 2, -1}, second[4] = {0, -1, 1, 2};
     int n = 0;
@@ -65,21 +68,35 @@ static inline int tc__quad_corners(int32_t q, int k, int32_t out[2]) {
 
 /* The inverse: the quad corner (0..3) that corner k of split triangle t is. */
 static inline int tc__quad_corner_of(int32_t t, int k) {
+    TC_ASSERT(t >= 0 && k >= 0 && k < 3);
     static const int8_t of_second[3] = {0, 2, 3};
     return t % 2 == 0 ? k : of_second[k];
 }
 
 /* The request's index of triangle t, and the triangle of given index i (-1: dropped). */
-static inline int32_t tc__given(const struct tc_mesh *m, int32_t t) { return m->given ? m->given[t] : t; }
-static inline int32_t tc__kept(const struct tc_mesh *m, int32_t i) { return m->kept ? m->kept[i] : i; }
+static inline int32_t tc__given(const struct tc_mesh *m, int32_t t) {
+    TC_ASSERT(t >= 0 && t < m->nt);
+    return m->given ? m->given[t] : t;
+}
+static inline int32_t tc__kept(const struct tc_mesh *m, int32_t i) {
+    TC_ASSERT(i >= 0 && i < m->ngiven);
+    return m->kept ? m->kept[i] : i;
+}
 
-static inline const double *tc__vxy(const struct tc_mesh *m, int32_t v) { return m->xy + 2 * (size_t)v; }
-static inline int32_t tc__cv(const struct tc_mesh *m, int32_t corner) { return m->tri[corner]; }
+static inline const double *tc__vxy(const struct tc_mesh *m, int32_t v) {
+    TC_ASSERT(v >= 0 && v < m->nv);
+    return m->xy + 2 * (size_t)v;
+}
+static inline int32_t tc__cv(const struct tc_mesh *m, int32_t corner) {
+    TC_ASSERT(corner >= 0 && corner < 3 * m->nt);
+    return m->tri[corner];
+}
 
 /* ---- queries on the mesh (topology.c, quads.c) ---- */
 
 /* The corner of triangle t at vertex v, or -1. */
 static inline int tc__corner_of(const struct tc_mesh *m, int32_t t, int32_t v) {
+    TC_ASSERT(t >= 0 && t < m->nt);
     const int32_t *tv = m->tri + 3 * (size_t)t;
     return tv[0] == v ? 0 : tv[1] == v ? 1 : tv[2] == v ? 2 : -1;
 }
@@ -94,15 +111,23 @@ int32_t tc__find_edge(const struct tc_mesh *m, int32_t a, int32_t b);
  * sent, whatever was split or dropped. */
 void tc__elem_path(const struct tc_mesh *m, int32_t t, char *buf, size_t n);
 const char *tc__elem_word(const struct tc_mesh *m);
-static inline int32_t tc__elem_index(const struct tc_mesh *m, int32_t t) { return m->nq ? t / 2 : tc__given(m, t); }
+static inline int32_t tc__elem_index(const struct tc_mesh *m, int32_t t) {
+    TC_ASSERT(t >= 0 && t < m->nt);
+    return m->nq ? t / 2 : tc__given(m, t);
+}
 /* Corner k of triangle t as a corner of its element (k, or the quad corner). */
 static inline int tc__elem_corner(const struct tc_mesh *m, int32_t t, int k) {
     return m->nq ? tc__quad_corner_of(t, k) : k;
 }
 /* Edge id e (3t+k) is the diagonal a-c of a split quad. */
 static inline int tc__is_diagonal(const struct tc_mesh *m, int32_t e) {
+    TC_ASSERT(e >= 0 && e < 3 * m->nt);
     int32_t t = e / 3, k = e % 3;
     return m->nq > 0 && k == (t % 2 == 0 ? 2 : 0);
 }
+
+/* invariants.c: 0 when the invariants above hold for m, else nonzero with the
+ * first one found broken written to why[n] (why may be NULL). O(nt + nv). */
+int tc__mesh_check(const struct tc_mesh *m, char *why, size_t n);
 
 #endif

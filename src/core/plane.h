@@ -5,6 +5,7 @@
 
 #include <math.h>
 
+#include "core/assert.h"
 #include "core/fhypot.h"
 
 /* Adds the unit upward normal of the plane with gradient g to the sum S.
@@ -42,6 +43,7 @@ static inline void tc__solve2(const double a[2], const double b[2], double ra, d
  * slope across d: the gradient form of the paper's Project, which never divides
  * by anything but |d|^2. */
 static inline void tc__match_along(const double g[2], const double target[2], const double d[2], double out[2]) {
+    TC_ASSERT(d[0] != 0 || d[1] != 0);
     double s = ((target[0] - g[0]) * d[0] + (target[1] - g[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
     out[0] = g[0] + s * d[0];
     out[1] = g[1] + s * d[1];

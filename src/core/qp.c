@@ -6,6 +6,18 @@
 
 #include "core/qp.h"
 
+/* A pivot below this fraction of the matrix's largest entry is rounding of a
+ * singular KKT system (a working row dependent on the others): ~100 ulps, far
+ * below the entries' real spread in these small, scaled problems. */
+#define PIVOT_MIN 1e-14
+/* A constraint row c blocks a step p only when c.p > this times |c| |p| (the
+ * cosine of their angle): rows dependent on the working rows have c.p = 0 but for
+ * rounding, about 1e-16 |c| |p| per term. */
+#define BLOCK_MIN_COS 1e-12
+/* A step below this fraction of y's scale (the data's plus y's size) is none:
+ * the iterate has converged to rounding, and the multipliers decide what next. */
+#define STEP_NEGLIGIBLE 1e-11
+
 /* Solves the k x k system M x = r in place by Gaussian elimination with
  * partial pivoting (M is overwritten). -1 if a pivot is negligible against
  * the matrix's largest entry. */
@@ -16,7 +28,7 @@ static int solve_dense(int k, double *M, double *r) {
         int p = c;
         for (int i = c + 1; i < k; i++)
             if (fabs(M[i * k + c]) > fabs(M[p * k + c])) p = i;
-        if (!(fabs(M[p * k + c]) > 1e-14 * big)) return -1;
+        if (!(fabs(M[p * k + c]) > PIVOT_MIN * big)) return -1;
         if (p != c) {
             for (int j = 0; j < k; j++) {
                 double t = M[c * k + j];
@@ -101,7 +113,7 @@ static void advance(problem *q, double *y, const double *p) {
         /* A row that depends on the working rows has c.p = 0 exactly but for
          * rounding; it must not block (adding it would make the KKT system singular). */
         double cp = active || q->banned[i] ? 0 : dot(c, p, q->n);
-        if (!(cp > 1e-12 * sqrt(dot(c, c, q->n)) * pn)) continue;
+        if (!(cp > BLOCK_MIN_COS * sqrt(dot(c, c, q->n)) * pn)) continue;
         double slack = fmax(0, q->b[i] - dot(q->C + i * q->n, y, q->n)), a = slack / cp;
         if (a < alpha) alpha = a, block = i;
     }
@@ -134,7 +146,7 @@ static int solve_scaled(int n, const double *H, const double *f, int neq, const 
          * for rounding; otherwise a step below rounding of y's scale is none. */
         double pn = 0, yn = 0;
         for (int j = 0; j < n; j++) pn = fmax(pn, fabs(p[j])), yn = fmax(yn, fabs(y[j]));
-        if (q.neq + q.nwork >= n || pn <= 1e-11 * (scale + yn)) {
+        if (q.neq + q.nwork >= n || pn <= STEP_NEGLIGIBLE * (scale + yn)) {
             if (!drop_negative(&q, mu)) {
                 rc = 0;
                 break;

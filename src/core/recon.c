@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/assert.h"
 #include "core/mesh.h"
 #include "core/option_table.h"
 #include "core/range.h"
@@ -99,6 +100,7 @@ static void quad_paths(const struct tc_mesh *m, tc_diags *dg, int from) {
 }
 
 int tc_recon_new(const tc_mesh *m, const tc_options *opt, tc_recon **out, tc_diags *diags) {
+    TC_ASSERT(m && out);
     *out = NULL;
     struct tc_recon *r = calloc(1, sizeof *r);
     if (!r) return TC_ENOMEM;
@@ -115,6 +117,9 @@ int tc_recon_new(const tc_mesh *m, const tc_options *opt, tc_recon **out, tc_dia
         tc_recon_free(r);
         return rc;
     }
+    /* recon.h's invariants (check_bounded refused any coefficient beyond TC_COEF_MAX) */
+    TC_ASSERT(r->method == tc__method_of(r->opt.method) && r->ncoef == r->method->ncoef);
+    TC_ASSERT(r->labels == r->method->labels && r->eval == r->method->eval && r->coef);
     *out = r;
     return TC_OK;
 }

@@ -27,6 +27,7 @@ struct tc_recon {
 
 /* Value v of channel ch as a point or a pixel of r gets it. */
 static inline double tc__floored(const struct tc_recon *r, int ch, double v) {
+    TC_ASSERT(ch >= 0 && ch < r->m->nc);
     return r->floor0[ch] && v < 0 ? 0 : v;
 }
 

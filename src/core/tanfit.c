@@ -48,6 +48,11 @@
  * terms (the sine of the angle); below, the order drops. Samples on three lines
  * make the cubic terms dependent up to the lines' 1e-4 offsets: refused. */
 #define TERM_INDEP 1e-2
+/* Relative rank tolerance of the fit (tc__lsq_solve_indep's rtol): a column
+ * below 1e-9 of the largest, after the rows' unit scaling, is not determined by
+ * the samples (they lie on a line through v): the fit fails rather than
+ * return a slope of size 1/1e-9 made of rounding. */
+#define FIT_RTOL 1e-9
 /* A sample much nearer than its ring's others mostly measures the function
  * across one thin element — where an unflagged kink hides (a penumbra strip
  * next to a flat region) — so its weight is that of a sample at this fraction of
@@ -200,7 +205,7 @@ static void fit(const hood *h, const double *zv, int nc, double *g) {
             for (int j = 0; j < cols; j++) A[i][j] = row[j] * w * w;
             for (int ch = 0; ch < nc; ch++) B[i][ch] = (h->z[i][ch] - zv[ch]) * w * w;
         }
-        if (tc__lsq_solve_indep(A, h->n, cols, B, nc, 1e-9, cols > 2 ? TERM_INDEP : 0, X) == 0) {
+        if (tc__lsq_solve_indep(A, h->n, cols, B, nc, FIT_RTOL, cols > 2 ? TERM_INDEP : 0, X) == 0) {
             for (int ch = 0; ch < nc; ch++) g[2 * ch] = X[0][ch] / s, g[2 * ch + 1] = X[1][ch] / s;
             return;
         }

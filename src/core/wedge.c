@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/assert.h"
 #include "core/geom.h"
 #include "core/mesh.h"
 #include "core/wedge.h"
@@ -139,6 +140,8 @@ static int32_t max_degree(const struct tc_mesh *m) {
 }
 
 int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws) {
+    TC_ASSERT(m && ws);
+    TC_ASSERT(honor_flags == TC_HONOR_NONE || honor_flags == TC_HONOR_ALL || honor_flags == TC_HONOR_CM1);
     size_t nc = 3 * (size_t)m->nt;
     int32_t deg = max_degree(m), fill = 0;
     memset(ws, 0, sizeof *ws);
@@ -161,5 +164,6 @@ int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws
     }
     free(buf);
     link_across(m, ws);
+    TC_ASSERT_CHECK(tc__wedges_check, m, ws);
     return TC_OK;
 }

@@ -11,7 +11,10 @@ enum { TC_SIDE_A = 0, TC_SIDE_B = 1 };
 /* Invariants: the corners of a wedge are contiguous in tc__wedge_set.corners and
  * ordered counter-clockwise from side A to side B; a wedge at a C1 vertex is a
  * full turn with no sides (side_edge = -1); a side of kind TC_C0 always has a
- * different wedge `across` it. */
+ * different wedge `across` it, whose side across it is across to this one;
+ * of_corner[c] is the wedge whose corners hold c, and every corner is in one
+ * wedge, of its own vertex. tc__wedges_check (invariants.c) checks these;
+ * tc__wedges_build asserts it (TC_DEBUG). */
 typedef struct {
     int32_t v;            /* the vertex */
     int32_t first, count; /* corners[first .. first + count) */
@@ -42,6 +45,8 @@ enum {
 
 /* The continuity of edge id e as the reconstruction sees it. */
 static inline int tc__eff_flag(const struct tc_mesh *m, int honor_flags, int32_t e) {
+    TC_ASSERT(e >= 0 && e < 3 * m->nt);
+    TC_ASSERT(honor_flags == TC_HONOR_NONE || honor_flags == TC_HONOR_ALL || honor_flags == TC_HONOR_CM1);
     int f = m->flag[e];
     if (honor_flags == TC_HONOR_ALL || m->nbr[e] < 0) return f;
     return honor_flags == TC_HONOR_CM1 && f == TC_CM1 ? TC_CM1 : TC_C1;
@@ -49,5 +54,11 @@ static inline int tc__eff_flag(const struct tc_mesh *m, int honor_flags, int32_t
 
 int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws);
 void tc__wedges_free(tc__wedge_set *ws);
+
+/* invariants.c: 0 when ws, built on m, keeps the invariants above (and the
+ * corners of a wedge are the faces of one fan, consecutive ones across an edge
+ * that does not delimit it), else nonzero with the first one found broken
+ * written to why[n] (why may be NULL). O(nt + nv). */
+int tc__wedges_check(const struct tc_mesh *m, const tc__wedge_set *ws, char *why, size_t n);
 
 #endif
