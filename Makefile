@@ -47,7 +47,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit test-peers check run clean report report-quick bench
+.PHONY: all deps test test-unit test-peers check torture run clean report report-quick bench
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -128,6 +128,14 @@ check: deps
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
 	  all build/san/test_unit
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
+
+# The daemon under hostile load at full size (slow clients, floods, huge bodies): every
+# tests/torture/*.py against the daemon in $(BUILD); minutes, not run by CI. Their short
+# forms run in `make test` (tests/endpoint/).
+torture: deps
+	@$(MAKE) --no-print-directory all
+	@set -e; for t in tests/torture/*.py; do [ -e "$$t" ] || continue; \
+	  echo "== $$t"; $(PYTHON) "$$t" $(BUILD); done
 
 # Starts the daemon in the foreground on 127.0.0.1:8080 (TOCHER_LISTEN etc. override).
 run: deps
