@@ -124,34 +124,44 @@ static const tc__field corner_value_fields[] = {
     {"quad", NULL, 0, "q"},
     {"values", NULL, 0, "[za, zb, zc]"},
 };
-enum { CV_TRIANGLE, CV_QUAD, CV_VALUES, CV_NFIELDS };
 
 /* Corners per entry, and how their list is shown in messages. */
 static int entry_corners(const tc__reader *rd) { return rd->quads ? 4 : 3; }
 
+/* The shape both per-corner lists share: {"triangle": t, key: [one per
+ * corner]} (on a quad mesh {"quad": q, key: [four]}). Reads the element into
+ * *tri and returns the corner array with its path in *pk, or NULL after
+ * reporting what is wrong. fields: the entry's three fields (triangle, quad, key). */
+static const cJSON *corner_entry(tc__reader *rd, const cJSON *e, const tc__jpath *p, const tc__field *fields,
+                                 const char *tri_list, const char *quad_list, int32_t *tri, tc__jpath *pk) {
+    const cJSON *f[3];
+    char buf[48], what[96];
+    int nk = entry_corners(rd);
+    const char *key = fields[2].name, *list = rd->quads ? quad_list : tri_list;
+    snprintf(what, sizeof what, "an object {\"%s\": %s, \"%s\": %s}", rd->quads ? "quad" : "triangle",
+             rd->quads ? "q" : "t", key, list);
+    if (tc__rd_members(rd, e, p, fields, 3, f, what)) return NULL;
+    tc__rd_member_elem(rd, f, p, 1, tri);
+    *pk = tc__jpath_key(p, key);
+    const cJSON *list_v = f[2];
+    if (!list_v) {
+        tc__rd_shape_error(rd, pk, "missing required field '%s' (the %d corner %s %s)", key, nk, key, list);
+        return NULL;
+    }
+    if (!tc__json_is(list_v, cJSON_Array) || tc__json_count(list_v) != (size_t)nk) {
+        tc__rd_shape_error(rd, pk, "expected an array of %d corner %s %s, got %s", nk, key, list,
+                           tc__json_describe(list_v, buf, sizeof buf));
+        return NULL;
+    }
+    return list_v;
+}
+
 /* {"triangle": t, "values": [za, zb, zc]} into *tri and z[3][C]; on a quad
  * mesh {"quad": q, "values": [za, zb, zc, zd]} into *tri and z[4][C]. */
 static void read_corner_value(tc__reader *rd, const cJSON *e, const tc__jpath *p, int32_t *tri, double *z) {
-    const cJSON *f[CV_NFIELDS];
-    char buf[48];
-    int nk = entry_corners(rd);
-    const char *list = rd->quads ? "[za, zb, zc, zd]" : "[za, zb, zc]";
-    if (tc__rd_members(rd, e, p, corner_value_fields, CV_NFIELDS, f,
-                       rd->quads ? "an object {\"quad\": q, \"values\": [za, zb, zc, zd]}"
-                                 : "an object {\"triangle\": t, \"values\": [za, zb, zc]}"))
-        return;
-    tc__rd_member_elem(rd, f + CV_TRIANGLE, p, 1, tri);
-    tc__jpath pv = tc__jpath_key(p, "values");
-    const cJSON *vals = f[CV_VALUES];
-    if (!vals) {
-        tc__rd_shape_error(rd, &pv, "missing required field 'values' (the %d corner values %s)", nk, list);
-        return;
-    }
-    if (!tc__json_is(vals, cJSON_Array) || tc__json_count(vals) != (size_t)nk) {
-        tc__rd_shape_error(rd, &pv, "expected an array of %d corner values %s, got %s", nk, list,
-                           tc__json_describe(vals, buf, sizeof buf));
-        return;
-    }
+    tc__jpath pv;
+    const cJSON *vals = corner_entry(rd, e, p, corner_value_fields, "[za, zb, zc]", "[za, zb, zc, zd]", tri, &pv);
+    if (!vals) return;
     size_t k = 0, C = (size_t)rd->nchan;
     for (const cJSON *c = vals->child; c; c = c->next, k++) {
         tc__jpath pk = tc__jpath_index(&pv, k);
@@ -274,33 +284,16 @@ static const tc__field corner_gradient_fields[] = {
     {"quad", NULL, 0, "q"},
     {"gradients", NULL, 0, "[g_a, g_b, g_c]"},
 };
-enum { CG_TRIANGLE, CG_QUAD, CG_GRADIENTS, CG_NFIELDS };
 
 /* {"triangle": t, "gradients": [g_a, g_b, g_c]} into *tri, g[3][C][2], mask[3]
  * (on a quad mesh {"quad": q, "gradients": [g_a, g_b, g_c, g_d]}, 4 corners);
  * returns 0 if some corner is null (not given). */
 static int read_corner_gradient(tc__reader *rd, const cJSON *e, const tc__jpath *p, int32_t *tri,
                                 double *g, uint8_t *mask) {
-    const cJSON *f[CG_NFIELDS];
-    char buf[48];
-    int nk = entry_corners(rd);
-    const char *list = rd->quads ? "[g_a, g_b, g_c, g_d]" : "[g_a, g_b, g_c]";
-    if (tc__rd_members(rd, e, p, corner_gradient_fields, CG_NFIELDS, f,
-                       rd->quads ? "an object {\"quad\": q, \"gradients\": [g_a, g_b, g_c, g_d]}"
-                                 : "an object {\"triangle\": t, \"gradients\": [g_a, g_b, g_c]}"))
-        return 1;
-    tc__rd_member_elem(rd, f + CG_TRIANGLE, p, 1, tri);
-    tc__jpath pg = tc__jpath_key(p, "gradients");
-    const cJSON *gs = f[CG_GRADIENTS];
-    if (!gs) {
-        tc__rd_shape_error(rd, &pg, "missing required field 'gradients' (one per corner: %s)", list);
-        return 1;
-    }
-    if (!tc__json_is(gs, cJSON_Array) || tc__json_count(gs) != (size_t)nk) {
-        tc__rd_shape_error(rd, &pg, "expected an array of %d corner gradients %s, got %s", nk, list,
-                           tc__json_describe(gs, buf, sizeof buf));
-        return 1;
-    }
+    tc__jpath pg;
+    const cJSON *gs = corner_entry(rd, e, p, corner_gradient_fields, "[g_a, g_b, g_c]", "[g_a, g_b, g_c, g_d]", tri,
+                                   &pg);
+    if (!gs) return 1;
     int all = 1;
     size_t k = 0, stride = 2 * (size_t)rd->nchan;
     for (const cJSON *c = gs->child; c; c = c->next, k++) {
