@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/plane.h"
@@ -36,7 +37,7 @@ typedef struct {
 } plane_rules;
 
 static const double *avg_of(const plane_rules *pr, int32_t w, int ch) {
-    return pr->avg + (2 * ((size_t)w * pr->nc + ch));
+    return pr->avg + (2 * tc__ix(w, pr->nc, ch));
 }
 
 static double face_area(const struct tc_mesh *m, int32_t t) {
@@ -168,7 +169,7 @@ static void line_plane(const plane_rules *pr, int32_t L, int ch, double g[2]) {
     }
     if (pr->by_area) g[0] /= wsum, g[1] /= wsum;
     else tc__normal_to_grad(S, g);
-    const double *v = pr->vplane + 2 * ((size_t)L * pr->nc + ch);
+    const double *v = pr->vplane + 2 * tc__ix(L, pr->nc, ch);
     g[0] += k * (v[0] - g[0]);
     g[1] += k * (v[1] - g[1]);
 }
@@ -187,7 +188,7 @@ static void side_plane(const plane_rules *pr, int32_t wi, int s, int ch, double 
         coupling(pr, wi, s, ch, g);
         double k = pr->corrected ? fmax(straightness_c0c0(&pr->ws->w[wi]), straightness_c0c0(&pr->ws->w[o])) : 0;
         if (k > 0) {
-            const double *v = pr->vplane + 2 * ((size_t)wi * pr->nc + ch);
+            const double *v = pr->vplane + 2 * tc__ix(wi, pr->nc, ch);
             g[0] += k * (v[0] - g[0]);
             g[1] += k * (v[1] - g[1]);
         }

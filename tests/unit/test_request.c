@@ -695,7 +695,7 @@ TEST(request_many_errors_are_capped) {
 
 /* A g x g grid of vertices as a request (2 triangles per cell), in a new string. */
 static char *grid_request(int g, size_t *len) {
-    size_t cap = (size_t)g * g * 120 + 256, n = 0;
+    size_t cap = (size_t)g * (size_t)g * 120 + 256, n = 0;
     char *s = malloc(cap);
     if (!s) return NULL;
     n += (size_t)snprintf(s + n, cap - n, "{\"vertices\": [");
