@@ -1,5 +1,7 @@
-# Makefile — builds the tocher core library, the CLI and the tests.
-# `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan.
+# Makefile — builds the tocher core library, the CLI (tocher), the daemon (tocherd), the image
+# plugin (libtocher_image.so), the tests and the benchmarks (build/report, build/bench_perf).
+# `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan, built
+# with -Wconversion; `make report` / `make bench` measure (docs/report.md, docs/performance.md).
 
 CC      ?= cc
 BUILD   ?= build
@@ -47,7 +49,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit test-peers check run clean report report-quick bench
+.PHONY: all deps test test-unit check run clean report report-quick bench
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so

@@ -1,6 +1,11 @@
 /* wedgeplane.c — one tangent plane per wedge: the paper's WedgeNormal (Figure 6),
- * in gradient form, corrected (default) or literal. See DESIGN.md §1 for the two
- * defects of the literal version and how `corrected` fixes them. */
+ * in gradient form, corrected (default) or literal. Figure 6 as printed has two
+ * defects, both at 180-degree wedges: C0 breaks at a vertex whose only two
+ * delimiters are collinear, one C0 and one C-1 or boundary (the wedge's two side
+ * heights come from different normals), and a kink along a straight C0 line
+ * through a vertex with no other delimiter is flattened (both wedges end up with
+ * the same averaged normal). `corrected` fixes both with one rule (corrected()
+ * below; docs/design-notes.md, "Wedges"). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,8 +54,8 @@ static double face_area(const struct tc_mesh *m, int32_t t) {
 }
 
 /* average "area": the area-weighted mean of the faces' gradients. It is linear in
- * the data (scaling every value scales the plane, which DESIGN.md's numerics
- * ask of the whole reconstruction), and a sliver — a face of near-zero area
+ * the data (scaling every value scales the plane, as it must the whole
+ * reconstruction: test_stab_invariance.c), and a sliver — a face of near-zero area
  * whose plane, from three nearly collinear samples, can be wildly steep —
  * cannot tilt it (the stiff scene of the report). */
 static void area_mean(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *inputs,

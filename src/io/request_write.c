@@ -1,5 +1,5 @@
-/* request_write.c — writes a mesh description as a request (DESIGN.md §3): the
- * scene front-end's output, readable by tc_request_parse to the same doubles. */
+/* request_write.c — writes a mesh description as a request (the format request.h
+ * reads): the scene front-end's output, readable by tc_request_parse to the same doubles. */
 #include "io/request_write.h"
 #include "io/jsonout.h"
 #include "io/options.h"
@@ -148,9 +148,9 @@ static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int
     tc_strbuf_puts(b, "]");
 }
 
-/* The mesh options that differ from the request format's defaults (left out
- * they would read back as those), then, when o is not NULL, "method" and the
- * options it reads (the rest would change nothing). */
+/* The option rows in order: when o is not NULL, "method" and the options it
+ * reads (the rest would change nothing); the mesh options that differ from the
+ * request format's defaults (left out they would read back as those). */
 static void options(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
     for (int i = 0; i < tc_opt_count(); i++) {
         const tc_opt *row = tc_opt_at(i);

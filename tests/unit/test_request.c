@@ -1,5 +1,6 @@
 /* test_request.c — unit tests of the JSON request reader (src/io/request*.c, reader.c).
- * Every rule of DESIGN.md §3 as read by tc_request_parse: parsed arrays, status, path, message. */
+ * Every rule of the request format (README.md, api/openapi.yaml) as read by tc_request_parse:
+ * parsed arrays, status, path, message. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
