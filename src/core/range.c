@@ -91,7 +91,8 @@ void tc__range_report_free(const struct tc_recon *r, int nord, tc_diags *dg) {
     int nc = m->nc, ncoef = r->ncoef;
     for (int ch = 0; ch < nc; ch++) {
         excursion e = {INFINITY, -INFINITY, 0, 0, -1, 0};
-        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) e.lo = fmin(e.lo, m->cz[c * (size_t)nc + (size_t)ch]), e.hi = fmax(e.hi, m->cz[c * (size_t)nc + (size_t)ch]);
+        for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
+            e.lo = fmin(e.lo, m->cz[c * (size_t)nc + (size_t)ch]), e.hi = fmax(e.hi, m->cz[c * (size_t)nc + (size_t)ch]);
         double tol = TC_RANGE_SLACK * fmax(fabs(e.lo), fabs(e.hi));
         for (int32_t t = 0; t < m->nt; t++) {
             const double *o = r->coef + tc__ix(t, nc, ch) * (size_t)ncoef;

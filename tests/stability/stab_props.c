@@ -288,7 +288,8 @@ static void data_range(const tc_mesh *m, stab_range *s) {
         s->zmin = fmin(s->zmin, m->cz[i]), s->zmax = fmax(s->zmax, m->cz[i]);
     for (size_t c = 0; m->mid && c < 3 * (size_t)m->nt; c++)
         for (int ch = 0; m->mid_has[c] && ch < m->nc; ch++)
-            s->zmin = fmin(s->zmin, m->mid[c * (size_t)m->nc + (size_t)ch]), s->zmax = fmax(s->zmax, m->mid[c * (size_t)m->nc + (size_t)ch]);
+            s->zmin = fmin(s->zmin, m->mid[c * (size_t)m->nc + (size_t)ch]),
+            s->zmax = fmax(s->zmax, m->mid[c * (size_t)m->nc + (size_t)ch]);
 }
 
 void stab_sample(const tc_recon *r, int per_tri, uint64_t seed, stab_range *s) {

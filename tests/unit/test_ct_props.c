@@ -31,7 +31,8 @@ void recon_scales(const tc_recon *r, double *vs, double *gs) {
         for (int k = 0; k < 3; k++)
             for (int ch = 0; ch < nc; ch++) {
                 *vs = fmax(*vs, fabs(tc_mesh_corner_value(m, t, k)[ch]));
-                if (cg) *gs = fmax(*gs, hypot(cg[((3 * (size_t)t + (size_t)k) * (size_t)nc + (size_t)ch) * 2], cg[((3 * (size_t)t + (size_t)k) * (size_t)nc + (size_t)ch) * 2 + 1]));
+                size_t i = (3 * (size_t)t + (size_t)k) * (size_t)nc + (size_t)ch;
+                if (cg) *gs = fmax(*gs, hypot(cg[i * 2], cg[i * 2 + 1]));
             }
     *gs = fmax(*gs, *vs);
 }

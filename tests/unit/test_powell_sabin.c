@@ -594,9 +594,10 @@ static void second_quadratic_above(tmesh *g, double y0) {
         g->cv_tri[i] = g->cg_tri[i] = t;
         g->ncg++;
         for (int k = 0; k < 3; k++)
-            for (int ch = 0; ch < nc; ch++)
-                quadratic2_f(NULL, gxy(g, t, k)[0], gxy(g, t, k)[1], ch, &g->cv[((size_t)i * 3 + (size_t)k) * (size_t)nc + (size_t)ch],
-                             g->cg + (((size_t)i * 3 + (size_t)k) * (size_t)nc + (size_t)ch) * 2);
+            for (int ch = 0; ch < nc; ch++) {
+                size_t at = ((size_t)i * 3 + (size_t)k) * (size_t)nc + (size_t)ch;
+                quadratic2_f(NULL, gxy(g, t, k)[0], gxy(g, t, k)[1], ch, &g->cv[at], g->cg + at * 2);
+            }
     }
 }
 
