@@ -1,6 +1,8 @@
-# Makefile — builds the tocher core library, the CLI and the tests.
-# `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan
-# with the core's assertions on.
+# Makefile — builds the tocher core library, the CLI (tocher), the daemon (tocherd), the image
+# plugin (libtocher_image.so), the tests and the benchmarks (build/report, build/bench_perf).
+# `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan, built
+# with -Wconversion and the core's assertions on; `make report` / `make bench` measure
+# (docs/report.md, docs/performance.md); `make torture` attacks the daemon at full size.
 
 CC      ?= cc
 BUILD   ?= build
@@ -24,7 +26,10 @@ CXX     ?= c++
 PYTHON  ?= /usr/bin/python3
 
 WARN     := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wvla
-ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(ASSERTS) $(WARN) \
+# More warnings for one build: `make check` sets WARN_EXTRA=-Wconversion (in C it also
+# turns on -Wsign-conversion); a plain `make` leaves it empty.
+WARN_EXTRA ?=
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(ASSERTS) $(WARN) $(WARN_EXTRA) \
              -Iinclude -Isrc $(CJSON_CFLAGS) -MMD -MP $(CFLAGS)
 ALL_LDFLAGS = $(SAN) $(LDFLAGS)
 LIBS     := $(CJSON_LIBS) -lm -lpthread -ldl
@@ -47,7 +52,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit test-peers check torture run clean report report-quick bench
+.PHONY: all deps test test-unit check torture run clean report report-quick bench
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -124,9 +129,9 @@ test-unit: $(BUILD)/test_unit
 	$(BUILD)/test_unit
 
 check: deps
-	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG \
+	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG WARN_EXTRA=-Wconversion \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
-	  all build/san/test_unit
+	  all build/san/test_unit build/san/report build/san/bench_perf
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 
 # The daemon under hostile load at full size (slow clients, floods, huge bodies): every

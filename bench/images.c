@@ -21,8 +21,8 @@ static void reference_panels(const tc_scene *s, const tc_viewport *vp, double *r
         for (int32_t i = 0; i < P; i++) {
             double x, y;
             tc_viewport_pixel_center(vp, i, j, &x, &y);
-            ref[(size_t)j * P + i] = tc_scene_value(s, x, y);
-            panel[(size_t)j * P + i] = clamp01(ref[(size_t)j * P + i] / s->scale);
+            ref[(size_t)j * P + (size_t)i] = tc_scene_value(s, x, y);
+            panel[(size_t)j * P + (size_t)i] = clamp01(ref[(size_t)j * P + (size_t)i] / s->scale);
         }
     bench_row_grey(img, 0, panel);
     for (size_t i = 0; i < (size_t)P * P; i++) panel[i] = 0;

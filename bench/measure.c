@@ -26,7 +26,7 @@ int bench_reference_init(bench_reference *ref, const tc_scene *s) {
     }
     for (int32_t j = 0; j < BENCH_W; j++)
         for (int32_t i = 0; i < BENCH_W; i++) {
-            size_t k = (size_t)j * BENCH_W + i;
+            size_t k = (size_t)j * BENCH_W + (size_t)i;
             tc_viewport_pixel_center(&ref->vp, i, j, &ref->xy[2 * k], &ref->xy[2 * k + 1]);
             ref->ref[k] = tc_scene_value(s, ref->xy[2 * k], ref->xy[2 * k + 1]);
         }
@@ -160,7 +160,7 @@ static void tangent_error(const tc_recon *r, const tc_scene_mesh *sm, bench_resu
         int32_t cid, v[3];
         for (int c = 0, nk = entry_corner(d, k, 0, &cid, v); c < nk; c++) {
             entry_corner(d, k, c, &cid, v);
-            const double *gs = d->corner_gradients + 2 * ((size_t)nk * k + c), *gu = used + 2 * (size_t)cid;
+            const double *gs = d->corner_gradients + 2 * ((size_t)nk * (size_t)k + (size_t)c), *gu = used + 2 * (size_t)cid;
             const double *p = d->xy + 2 * (size_t)v[0];
             double dg[2] = {gu[0] - gs[0], gu[1] - gs[1]}, e = hypot(dg[0], dg[1]), moved = 0;
             for (int j = 1; j <= 2; j++) {

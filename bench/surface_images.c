@@ -35,7 +35,7 @@ static void panels(const bench_surface *b, const float *tile, const int32_t *own
     const double thr = BENCH_OVER_THRESHOLD;
     for (int j = 0; j < P; j++)
         for (int i = 0; i < P; i++) {
-            float v = tile[(size_t)j * P + i], g = clamp01(v / b->s.scale);
+            float v = tile[(size_t)j * P + (size_t)i], g = clamp01(v / b->s.scale);
             const float grey[3] = {g, g, g}, black[3] = {0, 0, 0};
             bench_row_put(img, k, i, j, grey);
             bench_row_put(exc, k, i, j, black);
@@ -43,7 +43,7 @@ static void panels(const bench_surface *b, const float *tile, const int32_t *own
     bench_row_mesh(exc, k, b->m, vp, 0.45f);
     for (int j = 0; j < P; j++)
         for (int i = 0; i < P; i++) {
-            size_t p = (size_t)j * P + i;
+            size_t p = (size_t)j * P + (size_t)i;
             double e = owner[p] >= 0 ? excursion(b->m, owner[p], tile[p], unit) : 0;
             if (!(fabs(e) > thr)) continue;
             float a = clamp01(log(fabs(e) / thr) / log(1 / thr));
@@ -58,8 +58,8 @@ static int exact_tile(const bench_surface *b, const tc_viewport *vp, float *tile
         for (int32_t i = 0; i < P; i++) {
             double x, y;
             tc_viewport_pixel_center(vp, i, j, &x, &y);
-            tile[(size_t)j * P + i] = (float)bench_surface_exact(b, x, y);
-            owner[(size_t)j * P + i] = tc_locate(b->L, x, y);
+            tile[(size_t)j * P + (size_t)i] = (float)bench_surface_exact(b, x, y);
+            owner[(size_t)j * P + (size_t)i] = tc_locate(b->L, x, y);
         }
     tc_overshoot_stats o;
     int st = tc_overshoot(b->m, tile, owner, P, P, BENCH_OVER_THRESHOLD, &o);

@@ -77,7 +77,7 @@ static int tile_init(surf_tile *t, const bench_surface *b) {
     }
     for (int32_t j = 0; j < W; j++)
         for (int32_t i = 0; i < W; i++) {
-            size_t k = (size_t)j * W + i;
+            size_t k = (size_t)j * W + (size_t)i;
             tc_viewport_pixel_center(&t->vp, i, j, &t->xy[2 * k], &t->xy[2 * k + 1]);
             t->exact[k] = bench_surface_exact(b, t->xy[2 * k], t->xy[2 * k + 1]);
             t->exact_px[k] = (float)t->exact[k];

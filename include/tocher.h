@@ -38,7 +38,7 @@ typedef enum {
 typedef enum { TC_SEV_ERROR = 0, TC_SEV_WARNING = 1 } tc_severity;
 
 /* One finding about the input. `path` is the JSON path of the offending element
- * in the request format of DESIGN.md §3 ("triangles[5]", "discontinuities.c0[2][3]"),
+ * in the JSON request format (README.md, api/openapi.yaml: "triangles[5]", "discontinuities.c0[2][3]"),
  * so a caller that built the description from JSON can report it verbatim. */
 typedef struct {
     tc_severity severity;
@@ -65,7 +65,7 @@ int tc_diags_add(tc_diags *d, tc_severity sev, const char *path, const char *fmt
 #endif
     ;
 
-/* ---- the mesh description (request format, DESIGN.md §3) ------------------- */
+/* ---- the mesh description (as in the JSON request) ------------------------ */
 
 /* A set of polylines over vertex indices; polyline i is
  * verts[start[i] .. start[i+1]), and each consecutive pair must be a mesh edge. */
@@ -213,7 +213,7 @@ typedef enum {
 } tc_cross;
 
 typedef enum {
-    TC_WEDGES_CORRECTED = 0, /* Figure 6 with both defects fixed (DESIGN.md §1) */
+    TC_WEDGES_CORRECTED = 0, /* Figure 6 with both its defects fixed (src/core/wedgeplane.c) */
     TC_WEDGES_LITERAL        /* Figure 6 as printed */
 } tc_wedges;
 

@@ -23,7 +23,7 @@
 static double now_s(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
 static char *slurp(const char *path, size_t *len) {
@@ -238,8 +238,8 @@ static double whole_ordinates(const char *json, size_t len, double *encode_s, si
 static void tile_points(double *xy) {
     for (int j = 0; j < TILE; j++)
         for (int i = 0; i < TILE; i++) {
-            xy[2 * ((size_t)j * TILE + i)] = (i + 0.5) / TILE;
-            xy[2 * ((size_t)j * TILE + i) + 1] = (j + 0.5) / TILE;
+            xy[2 * ((size_t)j * TILE + (size_t)i)] = (i + 0.5) / TILE;
+            xy[2 * ((size_t)j * TILE + (size_t)i) + 1] = (j + 0.5) / TILE;
         }
 }
 
@@ -306,7 +306,7 @@ static void bench_mesh(const char *dir, const char *name, const double *scatter,
     double w_raw = whole_render(json, len, "raw", 2, ms_raw, &raw_bytes);
     double w_exr = whole_render(json, len, "exr", 2, ms_exr, &exr_bytes);
     double w_ord = whole_ordinates(json, len, &enc_s, &ord_bytes);
-    size_t coef_bytes = (size_t)nt * tc_mesh_channel_count(b.m) * tc_recon_coef_count(b.r) * sizeof(double);
+    size_t coef_bytes = (size_t)nt * (size_t)tc_mesh_channel_count(b.m) * (size_t)tc_recon_coef_count(b.r) * sizeof(double);
 
     printf("%s\n  \"%s\": {\"triangles\": %d, \"vertices\": %d, \"json_bytes\": %zu", first ? "" : ",", name,
            (int)nt, (int)tc_mesh_vertex_count(b.m), len);

@@ -29,8 +29,8 @@ static void channel_scales(agree *a) {
     for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = 0;
     for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
         for (int ch = 0; ch < m->nc; ch++) {
-            a->scale[ch] = fmax(a->scale[ch], fabs(m->cz[c * m->nc + ch]));
-            if (m->mid_has && m->mid_has[c]) a->scale[ch] = fmax(a->scale[ch], fabs(m->mid[c * m->nc + ch]));
+            a->scale[ch] = fmax(a->scale[ch], fabs(m->cz[c * (size_t)m->nc + (size_t)ch]));
+            if (m->mid_has && m->mid_has[c]) a->scale[ch] = fmax(a->scale[ch], fabs(m->mid[c * (size_t)m->nc + (size_t)ch]));
         }
 }
 
@@ -46,7 +46,7 @@ static int check_edge(const agree *a, size_t c, tc_diags *dg) {
         int32_t v = m->tri[ca];
         size_t cb = 3 * (size_t)t2 + (size_t)tc__corner_of(m, t2, v);
         for (int ch = 0; ch < m->nc; ch++) {
-            double za = m->cz[ca * m->nc + ch], zb = m->cz[cb * m->nc + ch];
+            double za = m->cz[ca * (size_t)m->nc + (size_t)ch], zb = m->cz[cb * (size_t)m->nc + (size_t)ch];
             if (fabs(za - zb) <= a->tol * a->scale[ch]) continue;
             char path[48];
             const char *w = tc__elem_word(m);
@@ -146,8 +146,8 @@ static int average_corners(agree *a) {
     struct tc_mesh *m = a->m;
     size_t n = 3 * (size_t)m->nt;
     int32_t *up = tc__malloc(n, sizeof *up), *cnt = tc__malloc(n, sizeof *cnt);
-    double *lo = tc__malloc(n * m->nc, sizeof *lo), *hi = tc__malloc(n * m->nc, sizeof *hi);
-    double *sum = tc__malloc(n * m->nc, sizeof *sum);
+    double *lo = tc__malloc(n * (size_t)m->nc, sizeof *lo), *hi = tc__malloc(n * (size_t)m->nc, sizeof *hi);
+    double *sum = tc__malloc(n * (size_t)m->nc, sizeof *sum);
     uint8_t *seen = tc__calloc((size_t)m->nv, sizeof *seen);
     int rc = up && cnt && lo && hi && sum && seen ? TC_OK : TC_ENOMEM;
     if (rc == TC_OK) {
@@ -170,7 +170,7 @@ static void midpoints_agree(agree *a) {
     for (size_t c = 0; m->mid_has && c < 3 * (size_t)m->nt; c++) {
         size_t c2 = 3 * (size_t)m->nbr[c] + (size_t)m->nbr_k[c];
         if (!joins(m, c) || !m->mid_has[c] || !m->mid_has[c2]) continue;
-        double *za = m->mid + c * nc, *zb = m->mid + c2 * nc, worst = 0;
+        double *za = m->mid + c * (size_t)nc, *zb = m->mid + c2 * (size_t)nc, worst = 0;
         for (int ch = 0; ch < nc; ch++) worst = fmax(worst, relative(a, ch, fabs(za[ch] - zb[ch])));
         if (worst == 0 || worst > a->tol) continue;
         for (int ch = 0; ch < nc; ch++) za[ch] = zb[ch] = za[ch] + (zb[ch] - za[ch]) / 2;

@@ -12,7 +12,7 @@ static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, i
     int nc = m->nc;
     *lo = INFINITY, *hi = -INFINITY;
     for (int k = 0; k < 3; k++) {
-        double z = cz[(3 * (size_t)t + k) * nc + ch];
+        double z = cz[tc__ix(3 * (long)t + k, nc, ch)];
         *lo = fmin(*lo, z), *hi = fmax(*hi, z);
     }
 }
@@ -23,7 +23,7 @@ static void wedge_ranges(const struct tc_mesh *m, const tc__wedge_set *ws, const
     int nc = m->nc;
     for (int32_t w = 0; w < ws->nw; w++)
         for (int ch = 0; ch < nc; ch++) {
-            double *r = wr + 2 * ((size_t)w * nc + ch);
+            double *r = wr + 2 * tc__ix(w, nc, ch);
             r[0] = INFINITY, r[1] = -INFINITY;
             for (int32_t i = 0; i < ws->w[w].count; i++) {
                 double lo, hi;
@@ -77,9 +77,9 @@ static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double
                   tc_tangents mode, int32_t t, int ch, extent *ext) {
     int nc = m->nc, shaped = tc__face_aspect(m, t) <= TC_RANGE_SHAPED_ASPECT;
     for (int i = 0; i < 3; i++) {
-        size_t ci = 3 * (size_t)t + i, cj = 3 * (size_t)t + (i + 1) % 3;
+        size_t ci = tc__ix(t, 3, i), cj = tc__ix(t, 3, (i + 1) % 3);
         if (m->mid_has && m->mid_has[ci]) {
-            double zi = cz[ci * nc + ch], zj = cz[cj * nc + ch], mid = m->mid[ci * nc + ch];
+            double zi = cz[tc__ix((long)ci, nc, ch)], zj = cz[tc__ix((long)cj, nc, ch)], mid = m->mid[tc__ix((long)ci, nc, ch)];
             ext->data[0] = fmax(ext->data[0], 4.0 / 3 * (mid - fmax(zi, zj)));
             ext->data[1] = fmax(ext->data[1], 4.0 / 3 * (fmin(zi, zj) - mid));
         }
@@ -87,7 +87,7 @@ static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double
         if (!planes || ki == PLANE_NONE || kj == PLANE_NONE) continue;
         double e[2];
         tc__sub(e, tc__vxy(m, m->tri[cj]), tc__vxy(m, m->tri[ci]));
-        double di = tc__dot(planes + 2 * (ci * nc + ch), e), dj = tc__dot(planes + 2 * (cj * nc + ch), e);
+        double di = tc__dot(planes + 2 * tc__ix((long)ci, nc, ch), e), dj = tc__dot(planes + 2 * tc__ix((long)cj, nc, ch), e);
         double *to = ki == PLANE_DATA && kj == PLANE_DATA ? ext->data : ext->est;
         to[0] = fmax(to[0], minmod(di, -dj) / 3), to[1] = fmax(to[1], minmod(-di, dj) / 3);
     }
@@ -104,7 +104,7 @@ static void extent_of(const struct tc_mesh *m, const tc__wedge_set *ws, const do
         corner_range(m, cz, u, ch, &a, &b);
         ext->lo = fmin(ext->lo, a), ext->hi = fmax(ext->hi, b);
         for (int k = 0; k < 3; k++) {
-            const double *r = wr + 2 * ((size_t)ws->of_corner[3 * u + k] * nc + ch);
+            const double *r = wr + 2 * tc__ix(ws->of_corner[3 * u + k], nc, ch);
             ext->around[0] = fmin(ext->around[0], r[0]), ext->around[1] = fmax(ext->around[1], r[1]);
         }
         bends(m, ws, cz, planes, mode, u, ch, ext);
@@ -132,9 +132,9 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
     int nc = m->nc;
     memset(b, 0, sizeof *b);
     b->nc = nc;
-    b->lo = tc__malloc((size_t)m->nt * nc, sizeof *b->lo);
-    b->hi = tc__malloc((size_t)m->nt * nc, sizeof *b->hi);
-    double *wr = tc__malloc((size_t)ws->nw * nc, 2 * sizeof *wr);
+    b->lo = tc__malloc(tc__ix(m->nt, nc, 0), sizeof *b->lo);
+    b->hi = tc__malloc(tc__ix(m->nt, nc, 0), sizeof *b->hi);
+    double *wr = tc__malloc(tc__ix(ws->nw, nc, 0), 2 * sizeof *wr);
     if (!b->lo || !b->hi || !wr) {
         free(wr);
         return TC_ENOMEM;
@@ -143,7 +143,7 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
     for (int ch = 0; ch < nc; ch++) {
         double big = 0, lo = INFINITY, hi = -INFINITY;
         for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-            double z = cz[c * nc + ch];
+            double z = cz[tc__ix((long)c, nc, ch)];
             big = fmax(big, fabs(z)), lo = fmin(lo, z), hi = fmax(hi, z);
         }
         b->tol[ch] = TC_RANGE_SLACK * big;
@@ -153,7 +153,7 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
         for (int ch = 0; ch < nc; ch++) {
             extent ext;
             extent_of(m, ws, cz, planes, wr, tangents, per_quad, t, ch, &ext);
-            bound_of(&ext, mode, &b->lo[(size_t)t * nc + ch], &b->hi[(size_t)t * nc + ch]);
+            bound_of(&ext, mode, &b->lo[tc__ix(t, nc, ch)], &b->hi[tc__ix(t, nc, ch)]);
         }
     free(wr);
     return TC_OK;

@@ -25,7 +25,7 @@ int tc_compare(const tc_recon *r, const tc_locator *L, size_t n, const double *x
             continue;
         }
         for (int ch = 0; ch < nc; ch++) {
-            double e = fabs(ref[i * nc + ch] - v[ch]);
+            double e = fabs(ref[i * (size_t)nc + (size_t)ch] - v[ch]);
             out->max_abs = fmax(out->max_abs, e);
             sum2 += e * e;
             sum_abs += e;

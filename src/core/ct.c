@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "core/alloc.h"
 #include "core/assert.h"
 #include "core/ct.h"
 #include "core/fhypot.h"
@@ -52,7 +53,7 @@ static double tau_affine(const tc__ct_input *ci, int32_t t, int k, const geom *g
     if (t2 < 0 || tc__eff_flag(m, ci->ws->honor_flags, e) != TC_C1) return 0.5;
     int a = k, b = (k + 1) % 3, w = (k + 2) % 3;
     double dw[2], ca[2], eb[2];
-    tc__sub(dw, tc__vxy(m, m->tri[3 * (size_t)t2 + (size_t)(m->nbr_k[e] + 2) % 3]), tc__vxy(m, m->tri[3 * (size_t)t + w]));
+    tc__sub(dw, tc__vxy(m, m->tri[3 * (size_t)t2 + (size_t)(m->nbr_k[e] + 2) % 3]), tc__vxy(m, m->tri[3 * (size_t)t + (size_t)w]));
     tc__sub(eb, g->r[b], g->r[a]);
     ca[0] = (eb[0] + (g->r[w][0] - g->r[a][0])) / 3;
     ca[1] = (eb[1] + (g->r[w][1] - g->r[a][1])) / 3;
@@ -98,11 +99,11 @@ static int cab_salesin(const tc__ct_input *ci, int32_t t, int k, int ch, const g
                        double *amp) {
     const struct tc_mesh *m = ci->m;
     int a = k, b = (k + 1) % 3, w = (k + 2) % 3, nc = m->nc;
-    size_t ca = 3 * (size_t)t + a, cb = 3 * (size_t)t + b;
+    size_t ca = 3 * (size_t)t + (size_t)a, cb = 3 * (size_t)t + (size_t)b;
     int c1 = tc__eff_flag(m, ci->ws->honor_flags, 3 * t + k) == TC_C1;
     const double *src = c1 ? ci->planes : ci->inputs;
     double gn[2], e[2], gp[2];
-    const double *ga = src + 2 * (ca * nc + ch), *gb = src + 2 * (cb * nc + ch);
+    const double *ga = src + 2 * (ca * (size_t)nc + (size_t)ch), *gb = src + 2 * (cb * (size_t)nc + (size_t)ch);
     if (ci->by_area) { /* linear in the data, like the wedge planes */
         gn[0] = 0.5 * (ga[0] + gb[0]);
         gn[1] = 0.5 * (ga[1] + gb[1]);
@@ -156,11 +157,11 @@ static int triangle(const tc__ct_input *ci, int32_t t, const geom *g, double *co
     const struct tc_mesh *m = ci->m;
     int nc = m->nc;
     for (int ch = 0; ch < nc; ch++) {
-        double *o = coef + ((size_t)t * nc + ch) * TC_CT_ORDINATES;
+        double *o = coef + tc__ix(t, nc, ch) * TC_CT_ORDINATES;
         for (int i = 0; i < 3; i++) {
-            size_t c = 3 * (size_t)t + i;
-            const double *gi = ci->planes + 2 * (c * nc + ch);
-            o[i] = ci->cz[c * nc + ch];
+            size_t c = 3 * (size_t)t + (size_t)i;
+            const double *gi = ci->planes + 2 * (c * (size_t)nc + (size_t)ch);
+            o[i] = ci->cz[c * (size_t)nc + (size_t)ch];
             for (int j = 0; j < 3; j++)
                 if (j != i)
                     o[IIJ[i][j]] = o[i] + (gi[0] * (g->r[j][0] - g->r[i][0]) + gi[1] * (g->r[j][1] - g->r[i][1])) / 3;

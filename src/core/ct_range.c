@@ -98,11 +98,11 @@ static void edge_ordinates(const tc__ct_input *ci, const double *planes, const t
     const struct tc_mesh *m = ci->m;
     int nc = m->nc;
     const double *a = tc__vxy(m, m->tri[e->ca]), *b = tc__vxy(m, m->tri[e->cb]);
-    const double *ga = planes + ((size_t)e->ca * nc + ch) * 2, *gb = planes + ((size_t)e->cb * nc + ch) * 2;
+    const double *ga = planes + tc__ix(e->ca, nc, ch) * 2, *gb = planes + tc__ix(e->cb, nc, ch) * 2;
     double ab[2];
     tc__sub(ab, b, a);
-    *aab = ci->cz[(size_t)e->ca * nc + ch] + tc__dot(ga, ab) / 3;
-    *abb = ci->cz[(size_t)e->cb * nc + ch] - tc__dot(gb, ab) / 3;
+    *aab = ci->cz[tc__ix(e->ca, nc, ch)] + tc__dot(ga, ab) / 3;
+    *abb = ci->cz[tc__ix(e->cb, nc, ch)] - tc__dot(gb, ab) / 3;
 }
 
 /* The largest lambda in [0, 1] such that scaling both end planes by lambda
@@ -130,9 +130,9 @@ static int dart_round(const limiter *lim, double *planes) {
             tie e;
             tie_geometry(m, t, k, &e);
             for (int ch = 0; ch < nc; ch++) {
-                size_t i1 = (size_t)t * nc + ch, i2 = (size_t)e.t2 * nc + ch;
+                size_t i1 = tc__ix(t, nc, ch), i2 = tc__ix(e.t2, nc, ch);
                 double flo = lim->b->lo[i2] + e.mu * lim->b->lo[i1], fhi = lim->b->hi[i2] + e.mu * lim->b->hi[i1];
-                double aab, abb, za = ci->cz[(size_t)e.ca * nc + ch], zb = ci->cz[(size_t)e.cb * nc + ch];
+                double aab, abb, za = ci->cz[tc__ix(e.ca, nc, ch)], zb = ci->cz[tc__ix(e.cb, nc, ch)];
                 edge_ordinates(ci, planes, &e, ch, &aab, &abb);
                 double lambda = dart_lambda(&e, za, zb, aab, abb, flo, fhi, tie_slack(&e, lim->b->tol[ch]));
                 if (lambda < 0 || lambda >= 1) continue;
@@ -156,7 +156,7 @@ static void note(const limiter *lim, tc__range_tally *t, int ch, double move, in
 static int clamp_free(const limiter *lim, int32_t t, int k, double *coef) {
     int nc = lim->ci->m->nc, moved = 0;
     for (int ch = 0; ch < nc; ch++) {
-        size_t i = (size_t)t * nc + ch;
+        size_t i = tc__ix(t, nc, ch);
         double *cab = coef + i * TC_CT_ORDINATES + tc__ct_cij[k];
         if (tc__outside(*cab, lim->b->lo[i], lim->b->hi[i], lim->b->tol[ch]) == 0) continue;
         double v = fmin(fmax(*cab, lim->b->lo[i]), lim->b->hi[i]);
@@ -171,7 +171,7 @@ static int clamp_free(const limiter *lim, int32_t t, int k, double *coef) {
  * q follows from p without growth of rounding. */
 static int clamp_tied_channel(const limiter *lim, const tie *e, int ch, double *o, double *o2) {
     int nc = lim->ci->m->nc;
-    size_t i1 = (size_t)e->t * nc + ch, i2 = (size_t)e->t2 * nc + ch;
+    size_t i1 = tc__ix(e->t, nc, ch), i2 = tc__ix(e->t2, nc, ch);
     double *x1 = o + tc__ct_cij[e->k], *x2 = o2 + tc__ct_cij[e->k2], tol = lim->b->tol[ch];
     double rhs = tie_rhs(e, o), slack = tie_slack(e, tol);
     /* Inside and tied (to rounding): nothing to do. The literal Project near
@@ -213,7 +213,7 @@ static void limit_edges(const limiter *lim, double *coef, uint8_t *dirty) {
         for (int k = 0; k < 3; k++) {
             int32_t ea = 3 * t + k;
             if (!is_tied(lim->ci, ea)) {
-                dirty[t] |= clamp_free(lim, t, k, coef);
+                dirty[t] |= (uint8_t)clamp_free(lim, t, k, coef);
                 continue;
             }
             if (m->nbr[ea] < t) continue;
@@ -251,7 +251,7 @@ int tc__ct_ordinates_ranged(const tc__ct_input *ci, tc_range mode, double *plane
         limit_edges(&lim, coef, dirty);
         for (int32_t t = 0; t < m->nt; t++)
             for (int ch = 0; dirty[t] && ch < m->nc; ch++)
-                tc__ct_close(coef + ((size_t)t * m->nc + ch) * TC_CT_ORDINATES);
+                tc__ct_close(coef + tc__ix(t, m->nc, ch) * TC_CT_ORDINATES);
         tc__range_warn(m, &stats, mode, dg);
     }
     free(dirty);

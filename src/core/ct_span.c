@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/ct.h"
 
 typedef double v4d __attribute__((vector_size(32)));
@@ -84,9 +85,9 @@ INLINE void span_body(const tc__eval_frame *f, const double *coef, int nc, const
         for (int ch = 0; ch < nc; ch++) {
             v4d v = cubic(coef + (size_t)ch * TC_CT_ORDINATES, is0, is1, r0, r1, A, B, C);
             v4f fv = __builtin_convertvector(v, v4f);
-            for (int l = 0; l < k; l++) out[(size_t)(i + l) * nc + ch] = fv[l];
+            for (int l = 0; l < k; l++) out[tc__ix(i + l, nc, ch)] = fv[l];
             if (dout)
-                for (int l = 0; l < k; l++) dout[(size_t)(i + l) * nc + ch] = v[l];
+                for (int l = 0; l < k; l++) dout[tc__ix(i + l, nc, ch)] = v[l];
         }
     }
 }

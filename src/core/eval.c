@@ -15,9 +15,9 @@ void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y, double *
     tc__eval_point at;
     int nc = r->m->nc;
     tc__at(r->m, t, x, y, &at);
-    const double *coef = r->coef + (size_t)t * nc * r->ncoef;
+    const double *coef = r->coef + (size_t)t * (size_t)nc * (size_t)r->ncoef;
     for (int ch = 0; ch < nc; ch++) {
-        r->eval(coef + (size_t)ch * r->ncoef, &at, &value[ch], grad ? grad + 2 * ch : NULL);
+        r->eval(coef + (size_t)ch * (size_t)r->ncoef, &at, &value[ch], grad ? grad + 2 * ch : NULL);
         value[ch] = tc__floored(r, ch, value[ch]);
     }
 }
@@ -26,7 +26,7 @@ void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y, double *
 static void eval_one(const tc_recon *r, const tc_locator *L, size_t i, double x, double y, double *values,
                      double *grads, int32_t *tri) {
     int nc = r->m->nc;
-    double *v = values + i * nc, *g = grads ? grads + 2 * i * nc : NULL;
+    double *v = values + i * (size_t)nc, *g = grads ? grads + 2 * i * (size_t)nc : NULL;
     int32_t t = tc_locate(L, x, y);
     if (tri) tri[i] = t;
     if (t >= 0) {
@@ -70,7 +70,7 @@ static uint32_t spread16(uint32_t x) {
 static visit *z_order(size_t n, const double *xy) {
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 2; k++)
+        for (size_t k = 0; k < 2; k++)
             if (isfinite(xy[2 * i + k])) lo[k] = fmin(lo[k], xy[2 * i + k]), hi[k] = fmax(hi[k], xy[2 * i + k]);
     visit *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     uint32_t *count = calloc(65536, sizeof *count);
@@ -82,7 +82,7 @@ static visit *z_order(size_t n, const double *xy) {
     for (int k = 0; k < 2; k++) s[k] = hi[k] > lo[k] ? 65535 / (hi[k] - lo[k]) : 0;
     for (size_t i = 0; i < n; i++) {
         uint32_t q[2];
-        for (int k = 0; k < 2; k++) {
+        for (size_t k = 0; k < 2; k++) {
             double u = (xy[2 * i + k] - lo[k]) * s[k];
             q[k] = u >= 0 && u <= 65535 ? (uint32_t)u : 0; /* NaN, Inf: anywhere */
         }

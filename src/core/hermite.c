@@ -216,7 +216,7 @@ static void wedge_hessian(const struct tc_mesh *m, const tc__wedge_set *ws, cons
     double A[TC_LSQ_MAXROWS][TC_LSQ_MAXCOLS] = {{0}}, Bm[TC_LSQ_MAXROWS][TC_LSQ_MAXRHS], X[TC_LSQ_MAXCOLS][TC_LSQ_MAXRHS];
     int32_t seen[TC_LSQ_MAXROWS / 2];
     int rows = 0, nc = m->nc;
-    const double *gv = planes + (size_t)ws->corners[w->first] * 2 * nc, *pv = tc__vxy(m, w->v);
+    const double *gv = planes + (size_t)ws->corners[w->first] * 2 * (size_t)nc, *pv = tc__vxy(m, w->v);
     for (int32_t i = 0; i < w->count && rows + 2 <= TC_LSQ_MAXROWS; i++) {
         int32_t c = ws->corners[w->first + i], t = c / 3;
         for (int j = 1; j <= 2 && rows + 2 <= TC_LSQ_MAXROWS; j++) {
@@ -227,7 +227,7 @@ static void wedge_hessian(const struct tc_mesh *m, const tc__wedge_set *ws, cons
             double dj[2];
             tc__sub(dj, tc__vxy(m, m->tri[cj]), pv);
             double len = tc__hypot(dj[0], dj[1]), u[2] = {dj[0] / len, dj[1] / len};
-            const double *gj = planes + (size_t)cj * 2 * nc;
+            const double *gj = planes + (size_t)cj * 2 * (size_t)nc;
             A[rows][0] = u[0], A[rows][1] = u[1], A[rows][2] = 0;
             A[rows + 1][0] = 0, A[rows + 1][1] = u[0], A[rows + 1][2] = u[1];
             for (int ch = 0; ch < nc; ch++) {
@@ -258,10 +258,10 @@ static int twists_build(const struct tc_recon *r, twists *tw) {
     tw->m = m, tw->planes = r->planes;
     int rc = tc__wedges_build(m, r->method->honour, &tw->ws);
     if (rc != TC_OK || r->opt.twist != TC_TWIST_ESTIMATE) return rc;
-    tw->H = tc__malloc((size_t)tw->ws.nw * m->nc, 3 * sizeof *tw->H);
+    tw->H = tc__malloc((size_t)tw->ws.nw * (size_t)m->nc, 3 * sizeof *tw->H);
     if (!tw->H) return TC_ENOMEM;
     for (int32_t w = 0; w < tw->ws.nw; w++)
-        wedge_hessian(m, &tw->ws, &tw->ws.w[w], r->planes, tw->H + (size_t)w * m->nc * 3);
+        wedge_hessian(m, &tw->ws, &tw->ws.w[w], r->planes, tw->H + (size_t)w * (size_t)m->nc * 3);
     return TC_OK;
 }
 
@@ -275,8 +275,8 @@ static void twists_free(twists *tw) {
 static const double *hessian_at(const twists *tw, int32_t c, int ch) {
     const struct tc_mesh *m = tw->m;
     int32_t v = m->tri[c];
-    if (m->hess && (!m->hess_has || m->hess_has[v])) return m->hess + ((size_t)v * m->nc + ch) * 3;
-    if (tw->H) return tw->H + ((size_t)tw->ws.of_corner[c] * m->nc + ch) * 3;
+    if (m->hess && (!m->hess_has || m->hess_has[v])) return m->hess + tc__ix(v, m->nc, ch) * 3;
+    if (tw->H) return tw->H + tc__ix(tw->ws.of_corner[c], m->nc, ch) * 3;
     return NULL;
 }
 
@@ -317,7 +317,7 @@ static double form(const double H[3], const double u[2], const double w[2]) {
 static double twist_of(const twists *tw, const quad_geom *G, int k, int ch, const double g[2]) {
     int32_t c = G->corner[k];
     const double *H = hessian_at(tw, c, ch);
-    double t = tc__dot(g, G->E), keep = tw->keep ? tw->keep[(size_t)tw->ws.of_corner[c] * tw->m->nc + ch] : 1;
+    double t = tc__dot(g, G->E), keep = tw->keep ? tw->keep[tc__ix(tw->ws.of_corner[c], tw->m->nc, ch)] : 1;
     return H ? t + keep * form(H, G->xs[k], G->xt[k]) : t;
 }
 
@@ -328,8 +328,8 @@ static void patch(const twists *tw, const quad_geom *G, int ch, double *o) {
     int nc = m->nc;
     for (int k = 0; k < 4; k++) {
         int32_t c = G->corner[k];
-        const double *g = tw->planes + ((size_t)c * nc + ch) * 2;
-        double f = m->cz[(size_t)c * nc + ch], fs = tc__dot(g, G->xs[k]), ft = tc__dot(g, G->xt[k]);
+        const double *g = tw->planes + tc__ix(c, nc, ch) * 2;
+        double f = m->cz[tc__ix(c, nc, ch)], fs = tc__dot(g, G->xs[k]), ft = tc__dot(g, G->xt[k]);
         double fst = twist_of(tw, G, k, ch, g);
         int i = 3 * KS[k], j = 3 * KT[k], si = KS[k] ? -1 : 1, sj = KT[k] ? -1 : 1;
         o[4 * i + j] = f;
@@ -357,8 +357,8 @@ static void fill(const twists *tw, double *coef) {
 /* (g_j - g_k) . x: how much the slope along x changes from corner k's plane
  * to corner j's, in channel ch. */
 static double plane_change(const twists *tw, const quad_geom *G, int k, int j, int ch, const double x[2]) {
-    const double *gk = tw->planes + ((size_t)G->corner[k] * tw->m->nc + ch) * 2;
-    const double *gj = tw->planes + ((size_t)G->corner[j] * tw->m->nc + ch) * 2;
+    const double *gk = tw->planes + tc__ix(G->corner[k], tw->m->nc, ch) * 2;
+    const double *gj = tw->planes + tc__ix(G->corner[j], tw->m->nc, ch) * 2;
     return (gj[0] - gk[0]) * x[0] + (gj[1] - gk[1]) * x[1];
 }
 
@@ -390,7 +390,7 @@ static void limit_pass(const twists *tw, int pass, double *fdmax, double *scale)
         quad_geometry(m, q, &G);
         for (int k = 0; k < 4; k++)
             for (int ch = 0; ch < m->nc; ch++) {
-                size_t w = (size_t)tw->ws.of_corner[G.corner[k]] * m->nc + ch;
+                size_t w = tc__ix(tw->ws.of_corner[G.corner[k]], m->nc, ch);
                 double fd = fd_twist(tw, &G, k, ch);
                 if (pass == 0) {
                     fdmax[w] = fmax(fdmax[w], fd);
@@ -403,14 +403,14 @@ static void limit_pass(const twists *tw, int pass, double *fdmax, double *scale)
 }
 
 static void limit_twists(twists *tw) {
-    size_t n = (size_t)tw->ws.nw * tw->m->nc;
+    size_t n = (size_t)tw->ws.nw * (size_t)tw->m->nc;
     double *fdmax = tc__calloc(n, sizeof *fdmax), *scale = tc__malloc(n, sizeof *scale);
     if (fdmax && scale) { /* else unlimited: still finite */
         for (size_t i = 0; i < n; i++) scale[i] = 1;
         limit_pass(tw, 0, fdmax, scale);
         limit_pass(tw, 1, fdmax, scale);
         for (size_t w = 0; w < n; w++)
-            for (int i = 0; i < 3; i++) tw->H[3 * w + i] *= scale[w];
+            for (size_t i = 0; i < 3; i++) tw->H[3 * w + i] *= scale[w];
     }
     free(fdmax);
     free(scale);
@@ -455,13 +455,13 @@ static void keep_pass(twists *tw, const tc__bounds *b, double *keep, double *lar
         for (int k = 0; k < 4; k++)
             for (int ch = 0; ch < nc; ch++) {
                 int32_t c = G.corner[k];
-                const double *H = hessian_at(tw, c, ch), *g = tw->planes + ((size_t)c * nc + ch) * 2;
+                const double *H = hessian_at(tw, c, ch), *g = tw->planes + tc__ix(c, nc, ch) * 2;
                 if (!H) continue;
-                double si, sj, f = m->cz[(size_t)c * nc + ch];
+                double si, sj, f = m->cz[tc__ix(c, nc, ch)];
                 corner_signs(k, &si, &sj);
                 double base = f + (si * tc__dot(g, G.xs[k]) + sj * tc__dot(g, G.xt[k])) / 3 + si * sj * tc__dot(g, G.E) / 9;
                 double part = si * sj * form(H, G.xs[k], G.xt[k]) / 9;
-                size_t i = (size_t)(2 * q) * nc + ch, w = (size_t)tw->ws.of_corner[c] * nc + ch;
+                size_t i = tc__ix(2 * q, nc, ch), w = tc__ix(tw->ws.of_corner[c], nc, ch);
                 largest[w] = fmax(largest[w], fabs(part));
                 double room = part > 0 ? b->hi[i] - base : b->lo[i] - base; /* same sign as part, or 0 */
                 if (tc__outside(base + part, b->lo[i], b->hi[i], b->tol[ch]) > 0)
@@ -472,7 +472,7 @@ static void keep_pass(twists *tw, const tc__bounds *b, double *keep, double *lar
 
 static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
-    size_t n = (size_t)tw->ws.nw * m->nc;
+    size_t n = (size_t)tw->ws.nw * (size_t)m->nc;
     tc__bounds b;
     int rc = tc__bounds_build(m, &tw->ws, m->cz, r->planes, r->opt.tangents, r->opt.range, 1, &b);
     tw->keep = rc == TC_OK ? tc__malloc(n, sizeof *tw->keep) : NULL;
@@ -484,8 +484,8 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
         tc__range_stats rs;
         tc__range_stats_init(&rs);
         for (size_t i = 0; i < n; i++) /* reported where an inner ordinate moved materially */
-            if ((1 - tw->keep[i]) * largest[i] > TC_RANGE_MATERIAL * b.span[i % m->nc])
-                tc__range_note(&rs.twists, 1 - tw->keep[i], tw->ws.w[i / m->nc].v, -1);
+            if ((1 - tw->keep[i]) * largest[i] > TC_RANGE_MATERIAL * b.span[i % (size_t)m->nc])
+                tc__range_note(&rs.twists, 1 - tw->keep[i], tw->ws.w[i / (size_t)m->nc].v, -1);
         tc__range_warn(m, &rs, r->opt.range, dg);
     }
     free(largest);

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/linear.h"
 #include "core/mesh.h"
 #include "core/recon.h"
@@ -18,8 +19,8 @@ int tc__constant_build(struct tc_recon *r, tc_diags *dg) {
     (void)dg;
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++) {
-            const double *z = m->cz + 3 * (size_t)t * nc + ch;
-            coef[(size_t)t * nc + ch] = z[0] + ((z[nc] - z[0]) + (z[2 * nc] - z[0])) / 3; /* exact when equal; no overflow */
+            const double *z = m->cz + 3 * (size_t)t * (size_t)nc + ch;
+            coef[tc__ix(t, nc, ch)] = z[0] + ((z[nc] - z[0]) + (z[2 * nc] - z[0])) / 3; /* exact when equal; no overflow */
         }
     return TC_OK;
 }
@@ -31,7 +32,7 @@ int tc__linear_build(struct tc_recon *r, tc_diags *dg) {
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++)
             for (int k = 0; k < 3; k++)
-                r->coef[((size_t)t * nc + ch) * 3 + k] = m->cz[(3 * (size_t)t + k) * nc + ch];
+                r->coef[tc__ix(t, nc, ch) * 3 + (size_t)k] = m->cz[tc__ix(3 * t + k, nc, ch)];
     return TC_OK;
 }
 
@@ -45,8 +46,8 @@ typedef struct {
 static void note_missing(const struct tc_mesh *m, missing_mids *mm, int32_t t, int k) {
     if (mm->count++ == 0) mm->t = t;
     if (mm->nlist == MISSING_LIST) return;
-    mm->edge[mm->nlist][0] = m->tri[3 * (size_t)t + k];
-    mm->edge[mm->nlist++][1] = m->tri[3 * (size_t)t + (k + 1) % 3];
+    mm->edge[mm->nlist][0] = m->tri[3 * (size_t)t + (size_t)k];
+    mm->edge[mm->nlist++][1] = m->tri[3 * (size_t)t + (size_t)(k + 1) % 3];
 }
 
 /* One warning at the first triangle concerned, naming the first edges. */
@@ -75,12 +76,12 @@ int tc__linear4_build(struct tc_recon *r, tc_diags *dg) {
     memset(&mm, 0, sizeof mm);
     for (int32_t t = 0; t < m->nt; t++)
         for (int ch = 0; ch < nc; ch++) {
-            double *o = coef + ((size_t)t * nc + ch) * 6;
-            for (int k = 0; k < 3; k++) o[k] = m->cz[(3 * (size_t)t + k) * nc + ch];
+            double *o = coef + tc__ix(t, nc, ch) * 6;
+            for (int k = 0; k < 3; k++) o[k] = m->cz[tc__ix(3 * t + k, nc, ch)];
             for (int k = 0; k < 3; k++) {
-                size_t e = 3 * (size_t)t + k;
+                size_t e = 3 * (size_t)t + (size_t)k;
                 if (m->mid_has && m->mid_has[e]) {
-                    o[3 + k] = m->mid[e * nc + ch];
+                    o[3 + k] = m->mid[e * (size_t)nc + (size_t)ch];
                 } else {
                     o[3 + k] = 0.5 * (o[k] + o[(k + 1) % 3]);
                     if (ch == 0) note_missing(m, &mm, t, k);

@@ -205,7 +205,7 @@ struct builder {
 /* Total order of triangles along an axis: box centre, then index. Ties by
  * index keep the median split exact however many centres coincide. */
 static int key_less(const struct builder *b, int axis, int32_t i, int32_t j) {
-    double ci = b->cen[2 * (size_t)i + axis], cj = b->cen[2 * (size_t)j + axis];
+    double ci = b->cen[2 * (size_t)i + (size_t)axis], cj = b->cen[2 * (size_t)j + (size_t)axis];
     return ci < cj || (ci == cj && i < j);
 }
 

@@ -62,7 +62,7 @@ static int check_finite_xy(const tc_mesh_desc *d, tc_diags *dg) {
     int rc = TC_OK;
     for (int32_t i = 0; i < d->nverts; i++)
         for (int j = 0; j < 2; j++)
-            if (!isfinite(d->xy[2 * (size_t)i + j])) {
+            if (!isfinite(d->xy[2 * (size_t)i + (size_t)j])) {
                 char path[48];
                 snprintf(path, sizeof path, "vertices[%d][%d]", (int)i, j);
                 rc = tc_diags_add(dg, TC_SEV_ERROR, path, "number is not finite");

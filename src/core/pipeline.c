@@ -17,7 +17,7 @@ static double *merged_values(const struct tc_mesh *m, const tc__wedge_set *ws, i
     *rc = TC_OK;
     if (ws->honor_flags != TC_HONOR_NONE || m->ncorner_overrides == 0) return NULL;
     int nc = m->nc;
-    double *cz = tc__malloc(3 * (size_t)m->nt * nc, sizeof *cz);
+    double *cz = tc__malloc(3 * (size_t)m->nt * (size_t)nc, sizeof *cz);
     if (!cz) {
         *rc = TC_ENOMEM;
         return NULL;
@@ -26,8 +26,8 @@ static double *merged_values(const struct tc_mesh *m, const tc__wedge_set *ws, i
         const tc__wedge *wd = &ws->w[w];
         for (int ch = 0; ch < nc; ch++) {
             double s = 0;
-            for (int32_t i = 0; i < wd->count; i++) s += m->cz[(size_t)ws->corners[wd->first + i] * nc + ch];
-            for (int32_t i = 0; i < wd->count; i++) cz[(size_t)ws->corners[wd->first + i] * nc + ch] = s / wd->count;
+            for (int32_t i = 0; i < wd->count; i++) s += m->cz[tc__ix(ws->corners[wd->first + i], nc, ch)];
+            for (int32_t i = 0; i < wd->count; i++) cz[tc__ix(ws->corners[wd->first + i], nc, ch)] = s / wd->count;
         }
     }
     return cz;

@@ -196,11 +196,11 @@ static void triangle(const struct tc_recon *r, int32_t t, const ps_geom *g) {
         double z[3];
         const double *gr[3];
         for (int i = 0; i < 3; i++) {
-            size_t c = 3 * (size_t)t + i;
-            z[i] = m->cz[c * nc + ch];
-            gr[i] = r->planes + 2 * (c * nc + ch);
+            size_t c = 3 * (size_t)t + (size_t)i;
+            z[i] = m->cz[c * (size_t)nc + (size_t)ch];
+            gr[i] = r->planes + 2 * (c * (size_t)nc + (size_t)ch);
         }
-        ordinates(g, z, gr, r->coef + ((size_t)t * nc + ch) * TC_PS_COEFS);
+        ordinates(g, z, gr, r->coef + tc__ix(t, nc, ch) * TC_PS_COEFS);
     }
 }
 

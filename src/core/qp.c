@@ -72,7 +72,7 @@ static double dot(const double *a, const double *x, int n) {
 static int kkt_step(const problem *q, const double *y, double *M, double *p, double *mu) {
     int n = q->n, k = n + q->neq + q->nwork;
     double r[TC_QP_MAXN + TC_QP_MAXEQ + TC_QP_MAXN];
-    memset(M, 0, (size_t)k * k * sizeof *M);
+    memset(M, 0, (size_t)k * (size_t)k * sizeof *M);
     for (int i = 0; i < n; i++) {
         for (int j = 0; j < n; j++) M[i * k + j] = q->H[i * n + j];
         r[i] = -(dot(q->H + i * n, y, n) + q->f[i]);
@@ -125,7 +125,7 @@ static int solve_scaled(int n, const double *H, const double *f, int neq, const 
                         const double *b, double *y) {
     problem q = {n, neq, m, H, f, Aeq, C, b, {0}, 0, -1, {0}};
     int kmax = n + neq + n;
-    double *M = malloc((size_t)kmax * kmax * sizeof *M);
+    double *M = malloc((size_t)kmax * (size_t)kmax * sizeof *M);
     if (!M) return -1;
     double p[TC_QP_MAXN], mu[TC_QP_MAXEQ + TC_QP_MAXN], scale = 0;
     for (int i = 0; i < n; i++) scale = fmax(scale, fabs(f[i]) / H[i * n + i]);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/geom.h"
 #include "core/mesh.h"
 #include "core/qp.h"
@@ -90,10 +91,11 @@ void tc__range_report_free(const struct tc_recon *r, int nord, tc_diags *dg) {
     int nc = m->nc, ncoef = r->ncoef;
     for (int ch = 0; ch < nc; ch++) {
         excursion e = {INFINITY, -INFINITY, 0, 0, -1, 0};
-        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) e.lo = fmin(e.lo, m->cz[c * nc + ch]), e.hi = fmax(e.hi, m->cz[c * nc + ch]);
+        for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
+            e.lo = fmin(e.lo, m->cz[c * (size_t)nc + (size_t)ch]), e.hi = fmax(e.hi, m->cz[c * (size_t)nc + (size_t)ch]);
         double tol = TC_RANGE_SLACK * fmax(fabs(e.lo), fabs(e.hi));
         for (int32_t t = 0; t < m->nt; t++) {
-            const double *o = r->coef + ((size_t)t * nc + ch) * ncoef;
+            const double *o = r->coef + tc__ix(t, nc, ch) * (size_t)ncoef;
             double out = 0;
             for (int i = 0; i < nord; i++) out = fmax(out, tc__outside(o[i], e.lo, e.hi, tol));
             if (out == 0) continue;
@@ -137,14 +139,14 @@ static int group_of(const tc__wedge_set *ws, int32_t w, int32_t *g, int cap) {
 }
 
 static double *plane_at(double *planes, const tc__wedge_set *ws, int nc, int32_t w, int ch) {
-    return planes + ((size_t)ws->corners[ws->w[w].first] * nc + ch) * 2;
+    return planes + tc__ix(ws->corners[ws->w[w].first], nc, ch) * 2;
 }
 
 /* Writes plane g to every corner of wedge w. */
 static void set_plane(double *planes, const tc__wedge_set *ws, int nc, int32_t w, int ch, const double g[2]) {
     const tc__wedge *wd = &ws->w[w];
     for (int32_t i = 0; i < wd->count; i++) {
-        double *p = planes + ((size_t)ws->corners[wd->first + i] * nc + ch) * 2;
+        double *p = planes + tc__ix(ws->corners[wd->first + i], nc, ch) * 2;
         p[0] = g[0], p[1] = g[1];
     }
 }
@@ -217,8 +219,8 @@ static int gather_rows(group *G) {
         const tc__wedge *wd = &G->ws->w[G->w[s]];
         for (int32_t i = 0; i < wd->count; i++) {
             int32_t c = G->ws->corners[wd->first + i];
-            size_t ti = (size_t)(c / 3) * nc + G->ch;
-            double z = G->cz[(size_t)c * nc + G->ch], d[TC_PLANE_DIRS_MAX][2];
+            size_t ti = tc__ix(c / 3, nc, G->ch);
+            double z = G->cz[tc__ix(c, nc, G->ch)], d[TC_PLANE_DIRS_MAX][2];
             int nd = G->dirs(G->ctx, c, d);
             for (int j = 0; j < nd; j++)
                 if (add_row(G, s, d[j], G->b->lo[ti] - z, G->b->hi[ti] - z)) return -1;
@@ -315,12 +317,12 @@ static int link_rows(const group *G, const double *y0, double *Aeq, double *C, d
     if (nl < 0 || *m + 2 * nl > TC_QP_MAXM) return -1;
     for (int e = 0; e < nl; e++) {
         const double *d = L[e].d;
-        double nrm[2] = {-d[1], d[0]}, *a = Aeq + (size_t)e * n;
+        double nrm[2] = {-d[1], d[0]}, *a = Aeq + (size_t)e * (size_t)n;
         memset(a, 0, (size_t)n * sizeof *a);
         a[2 * L[e].s] = d[0], a[2 * L[e].s + 1] = d[1], a[2 * L[e].o] = -d[0], a[2 * L[e].o + 1] = -d[1];
         double kink = tc__dot(nrm, y0 + 2 * L[e].s) - tc__dot(nrm, y0 + 2 * L[e].o);
         for (int sign = 1; sign >= -1; sign -= 2) {
-            double *c = C + (size_t)*m * n;
+            double *c = C + (size_t)*m * (size_t)n;
             memset(c, 0, (size_t)n * sizeof *c);
             c[2 * L[e].s] = sign * nrm[0], c[2 * L[e].s + 1] = sign * nrm[1];
             c[2 * L[e].o] = -sign * nrm[0], c[2 * L[e].o + 1] = -sign * nrm[1];
@@ -366,7 +368,7 @@ static int project(const group *G, const double Q[][3], const double *y0, double
             double lim = sign > 0 ? r->hi : -r->lo;
             if (isinf(lim)) continue;
             if (m == TC_QP_MAXM) return -1;
-            double *c = C + (size_t)m * n;
+            double *c = C + (size_t)m * (size_t)n;
             memset(c, 0, (size_t)n * sizeof *c);
             c[2 * r->slot] = sign * r->d[0], c[2 * r->slot + 1] = sign * r->d[1];
             b[m++] = fmax(lim, 0);

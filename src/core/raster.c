@@ -57,7 +57,7 @@ static int claim(const band *bd, const struct tc__slot *s, int32_t i, int32_t j,
     const tc_viewport *vp = bd->jb->vp;
     int hit = tc__slot_test(s, bd->jb->xs[i], y);
     if (hit == TC_SLOT_OUT) return hit;
-    int32_t *slot = &bd->jb->owner[(size_t)j * vp->width + i];
+    int32_t *slot = &bd->jb->owner[tc__ix(j, vp->width, i)];
     if (hit == TC_SLOT_OWN) *slot = s->t;
     else if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
     return hit;
@@ -111,7 +111,7 @@ static void cover_row(const band *bd, const struct tc__slot *s, int32_t j, int32
     if (b == a) hb = ha;
     for (int32_t i = a - 1; i >= i0 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i--) {}
     for (int32_t i = b + 1; i <= i1 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i++) {}
-    int32_t *row = bd->jb->owner + (size_t)j * vp->width;
+    int32_t *row = bd->jb->owner + (size_t)j * (size_t)vp->width;
     for (int32_t i = a + 1; i < b; i++) {
         if (ha == TC_SLOT_OWN && hb == TC_SLOT_OWN) row[i] = s->t;
         else claim(bd, s, i, j, y);
@@ -156,22 +156,22 @@ static void shade_run(const job *jb, const tc__eval_frame *f, int32_t t, const d
                       float *out) {
     const tc_recon *r = jb->r;
     int nc = r->m->nc;
-    const double *coef = r->coef + (size_t)t * nc * r->ncoef;
+    const double *coef = r->coef + (size_t)t * (size_t)nc * (size_t)r->ncoef;
     if (r->eval == tc__ct_eval) {
         tc__ct_span(f, coef, nc, xs, y, n, out, NULL);
-        for (size_t i = 0; i < (size_t)n * nc; i++) /* as tile_float */
+        for (size_t i = 0; i < (size_t)n * (size_t)nc; i++) /* as tile_float */
             if (isinf(out[i])) out[i] = copysignf(FLT_MAX, out[i]);
         for (int ch = 0; ch < nc; ch++) /* as tc__floored: (float) keeps the sign */
             for (int32_t i = 0; r->floor0[ch] && i < n; i++)
-                if (out[(size_t)i * nc + ch] < 0) out[(size_t)i * nc + ch] = 0;
+                if (out[tc__ix(i, nc, ch)] < 0) out[tc__ix(i, nc, ch)] = 0;
         return;
     }
     double v[TC_MAX_CHANNELS];
     for (int32_t i = 0; i < n; i++) {
         tc__eval_point at;
         tc__frame_at(f, xs[i], y, &at);
-        for (int ch = 0; ch < nc; ch++) r->eval(coef + (size_t)ch * r->ncoef, &at, &v[ch], NULL);
-        for (int ch = 0; ch < nc; ch++) out[(size_t)i * nc + ch] = tile_float(tc__floored(r, ch, v[ch]));
+        for (int ch = 0; ch < nc; ch++) r->eval(coef + (size_t)ch * (size_t)r->ncoef, &at, &v[ch], NULL);
+        for (int ch = 0; ch < nc; ch++) out[tc__ix(i, nc, ch)] = tile_float(tc__floored(r, ch, v[ch]));
     }
 }
 
@@ -186,15 +186,15 @@ static void shade_band(const band *bd) {
     for (int32_t j = bd->j0; j < bd->j1; j++) {
         double x, y;
         tc_viewport_pixel_center(vp, 0, j, &x, &y);
-        size_t row = (size_t)j * vp->width;
+        size_t row = (size_t)j * (size_t)vp->width;
         for (int32_t i = 0; i < vp->width;) {
-            int32_t t = settle(jb->owner, row + i), e = i + 1;
-            while (e < vp->width && settle(jb->owner, row + e) == t) e++;
-            float *out = jb->values + (row + i) * nc;
+            int32_t t = settle(jb->owner, row + (size_t)i), e = i + 1;
+            while (e < vp->width && settle(jb->owner, row + (size_t)e) == t) e++;
+            float *out = jb->values + (row + (size_t)i) * (size_t)nc;
             if (t < 0) {
                 for (int32_t p = 0; p < e - i; p++)
                     for (int ch = 0; ch < nc; ch++)
-                        out[(size_t)p * nc + ch] = jb->ropt->background ? tile_float(jb->ropt->background[ch]) : 0.0f;
+                        out[tc__ix(p, nc, ch)] = jb->ropt->background ? tile_float(jb->ropt->background[ch]) : 0.0f;
             } else {
                 if (t != cur) tc__frame(jb->r->m, t, &f), cur = t;
                 shade_run(jb, &f, t, jb->xs + i, y, e - i, out);
@@ -208,7 +208,7 @@ static void render_band(job *jb, int32_t b) {
     const tc_viewport *vp = jb->vp;
     band bd = {jb, b * BAND_ROWS, (b + 1) * BAND_ROWS};
     if (bd.j1 > vp->height) bd.j1 = vp->height;
-    for (size_t p = (size_t)bd.j0 * vp->width; p < (size_t)bd.j1 * vp->width; p++) jb->owner[p] = -1;
+    for (size_t p = (size_t)bd.j0 * (size_t)vp->width; p < (size_t)bd.j1 * (size_t)vp->width; p++) jb->owner[p] = -1;
     double xa, ya, xb, yb, lo[2], hi[2];
     tc_viewport_pixel_center(vp, 0, bd.j1 - 1, &xa, &ya);
     tc_viewport_pixel_center(vp, vp->width - 1, bd.j0, &xb, &yb);
@@ -251,7 +251,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
               float *values, int32_t *owner) {
     static const tc_render_options defaults = {NULL, 1, 0};
     if (!valid_viewport(vp)) return TC_EINVAL;
-    int32_t *own = owner ? owner : tc__malloc((size_t)vp->width * vp->height, sizeof *own);
+    int32_t *own = owner ? owner : tc__malloc((size_t)vp->width * (size_t)vp->height, sizeof *own);
     double *xs = tc__malloc((size_t)vp->width, sizeof *xs);
     if (!own || !xs) {
         if (!owner) free(own);
@@ -287,7 +287,7 @@ static void draw_line(const tc_viewport *vp, int nc, const float *c, double ax, 
         double f = n > 0 ? k / n : 0;
         double px = floor(ax + f * (bx - ax) + 0.5), py = floor(ay + f * (by - ay) + 0.5);
         if (px < 0 || py < 0 || px >= vp->width || py >= vp->height) continue;
-        memcpy(values + ((size_t)py * vp->width + (size_t)px) * nc, c, (size_t)nc * sizeof *c);
+        memcpy(values + ((size_t)py * (size_t)vp->width + (size_t)px) * (size_t)nc, c, (size_t)nc * sizeof *c);
     }
 }
 

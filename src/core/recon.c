@@ -26,7 +26,7 @@ void tc_recon_free(tc_recon *r) {
 /* Steep tangent planes on large triangles, or values near the double range,
  * can overflow the ordinates: refuse the input, naming the triangle. */
 static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
-    size_t per_tri = (size_t)r->m->nc * r->ncoef;
+    size_t per_tri = (size_t)r->m->nc * (size_t)r->ncoef;
     for (int32_t t = 0; t < r->m->nt; t++)
         for (size_t i = 0; i < per_tri; i++) {
             double c = r->coef[(size_t)t * per_tri + i];
@@ -37,8 +37,8 @@ static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
             else if (isinf(c)) snprintf(size, sizeof size, "overflows the double range");
             else snprintf(size, sizeof size, "is %.3g, beyond %.0e", c, TC_COEF_MAX);
             return tc_diags_add(dg, TC_SEV_ERROR, path,
-                                "the reconstruction overflows here: its ordinate %s %s; %s", r->labels[i % r->ncoef],
-                                size,
+                                "the reconstruction overflows here: its ordinate %s %s; %s",
+                                r->labels[i % (size_t)r->ncoef], size,
                                 r->method->uses & TC__USES_PLANES
                                     ? "the tangent planes at its corners are too steep for its size, or its values "
                                       "too large"
@@ -68,7 +68,7 @@ static int build(struct tc_recon *r, tc_diags *dg) {
         return tc_diags_add(dg, TC_SEV_ERROR, "triangles", "%s needs quads: give the mesh as \"quads\": [[a, b, c, d], ...]",
                             mt->name);
     r->method = mt, r->ncoef = mt->ncoef, r->labels = mt->labels, r->eval = mt->eval;
-    r->coef = tc__malloc((size_t)m->nt * m->nc, (size_t)r->ncoef * sizeof *r->coef);
+    r->coef = tc__malloc((size_t)m->nt * (size_t)m->nc, (size_t)r->ncoef * sizeof *r->coef);
     if (!r->coef) return TC_ENOMEM;
     int rc = mt->build(r, dg);
     if (rc == TC_OK) rc = check_bounded(r, dg);
@@ -81,7 +81,7 @@ static void set_floors(struct tc_recon *r) {
     const struct tc_mesh *m = r->m;
     for (int ch = 0; ch < m->nc; ch++) {
         int nonneg = 1;
-        for (size_t c = 0; c < 3 * (size_t)m->nt && nonneg; c++) nonneg = m->cz[c * m->nc + ch] >= 0;
+        for (size_t c = 0; c < 3 * (size_t)m->nt && nonneg; c++) nonneg = m->cz[c * (size_t)m->nc + (size_t)ch] >= 0;
         r->floor0[ch] = (uint8_t)nonneg;
     }
 }

@@ -76,8 +76,8 @@ static void put_corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch 
         for (int n = landing(m, e, k, cs), j = 0; j < n; j++) {
             size_t c = (size_t)cs[j];
             s->cv_src[c] = i;
-            memcpy(m->cz + c * nc, z + (size_t)k * nc, (size_t)nc * sizeof *m->cz);
-            if (memcmp(z + (size_t)k * nc, d->values + (size_t)m->tri[c] * nc, (size_t)nc * sizeof *z))
+            memcpy(m->cz + c * (size_t)nc, z + (size_t)k * (size_t)nc, (size_t)nc * sizeof *m->cz);
+            if (memcmp(z + (size_t)k * (size_t)nc, d->values + (size_t)m->tri[c] * (size_t)nc, (size_t)nc * sizeof *z))
                 m->ncorner_overrides++;
         }
     }
@@ -87,22 +87,22 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
     int nc = m->nc, rc = TC_OK, nk = elem_corners(m);
     char path[64];
     for (int32_t v = 0; v < m->nv; v++) {
-        if (all_finite(d->values + (size_t)v * nc, (size_t)nc)) continue;
+        if (all_finite(d->values + (size_t)v * (size_t)nc, (size_t)nc)) continue;
         snprintf(path, sizeof path, "values[%d]", (int)v);
-        if (check_finite(d->values + (size_t)v * nc, (size_t)nc, path, dg) != TC_OK) rc = TC_EINVAL;
+        if (check_finite(d->values + (size_t)v * (size_t)nc, (size_t)nc, path, dg) != TC_OK) rc = TC_EINVAL;
     }
     if (rc != TC_OK) return rc;
-    m->cz = tc__malloc(3 * (size_t)m->nt * nc, sizeof *m->cz);
+    m->cz = tc__malloc(3 * (size_t)m->nt * (size_t)nc, sizeof *m->cz);
     if (!m->cz) return TC_ENOMEM;
     for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
-        memcpy(m->cz + c * nc, d->values + (size_t)m->tri[c] * nc, (size_t)nc * sizeof *m->cz);
+        memcpy(m->cz + c * (size_t)nc, d->values + (size_t)m->tri[c] * (size_t)nc, (size_t)nc * sizeof *m->cz);
     if (d->ncorner_values == 0) return TC_OK;
     s->cv_src = tc__malloc(3 * (size_t)m->nt, sizeof *s->cv_src);
     if (!s->cv_src) return TC_ENOMEM;
     for (size_t c = 0; c < 3 * (size_t)m->nt; c++) s->cv_src[c] = -1;
     for (int32_t i = 0; i < d->ncorner_values; i++) {
         int32_t e = d->corner_values_tri[i], c0[2];
-        const double *z = d->corner_values + (size_t)i * nk * nc;
+        const double *z = d->corner_values + (size_t)i * (size_t)nk * (size_t)nc;
         if (check_elem(m, "corner_values", i, e, dg) != TC_OK) {
             rc = TC_EINVAL;
             continue;
@@ -116,7 +116,7 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
             continue;
         }
         snprintf(path, sizeof path, "corner_values[%d].values", (int)i);
-        if (check_finite(z, (size_t)nk * nc, path, dg) != TC_OK) {
+        if (check_finite(z, (size_t)nk * (size_t)nc, path, dg) != TC_OK) {
             rc = TC_EINVAL;
             continue;
         }
@@ -127,7 +127,7 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
 
 static int alloc_gradients(struct tc_mesh *m) {
     if (m->given_grad) return TC_OK;
-    m->given_grad = tc__calloc(3 * (size_t)m->nt * m->nc * 2, sizeof *m->given_grad);
+    m->given_grad = tc__calloc(3 * (size_t)m->nt * (size_t)m->nc * 2, sizeof *m->given_grad);
     m->given_grad_has = tc__calloc(3 * (size_t)m->nt, sizeof *m->given_grad_has);
     return m->given_grad && m->given_grad_has ? TC_OK : TC_ENOMEM;
 }
@@ -169,10 +169,10 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
             memcpy(g, d->gradients + (size_t)v * stride, stride * sizeof *g);
         } else {
             if (d->normals_mask && !d->normals_mask[v]) continue;
-            if (!all_finite(d->normals + (size_t)v * 3 * nc, 3 * (size_t)nc))
+            if (!all_finite(d->normals + (size_t)v * 3 * (size_t)nc, 3 * (size_t)nc))
                 snprintf(path, sizeof path, "normals[%d]", (int)v);
-            if (check_finite(d->normals + (size_t)v * 3 * nc, 3 * (size_t)nc, path, dg) != TC_OK ||
-                normal_to_gradient(d->normals + (size_t)v * 3 * nc, nc, v, g, dg) != TC_OK) {
+            if (check_finite(d->normals + (size_t)v * 3 * (size_t)nc, 3 * (size_t)nc, path, dg) != TC_OK ||
+                normal_to_gradient(d->normals + (size_t)v * 3 * (size_t)nc, nc, v, g, dg) != TC_OK) {
                 rc = TC_EINVAL;
                 continue;
             }
@@ -190,8 +190,8 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
 static int put_corner_gradient(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t e, int k, tc_diags *dg) {
     int nk = elem_corners(m);
     size_t stride = 2 * (size_t)m->nc;
-    if (d->corner_gradients_mask && !d->corner_gradients_mask[(size_t)nk * i + k]) return TC_OK;
-    const double *g = d->corner_gradients + ((size_t)nk * i + k) * stride;
+    if (d->corner_gradients_mask && !d->corner_gradients_mask[tc__ix(i, nk, k)]) return TC_OK;
+    const double *g = d->corner_gradients + tc__ix(i, nk, k) * stride;
     char path[64];
     snprintf(path, sizeof path, "corner_gradients[%d].gradients[%d]", (int)i, k);
     if (check_finite(g, stride, path, dg) != TC_OK) return TC_EINVAL;
@@ -249,7 +249,7 @@ static int put_midpoint(struct tc_mesh *m, int32_t *src, size_t c, int32_t i, co
         return tc_diags_add(dg, TC_SEV_ERROR, path, "this edge side already has a sample (midpoints[%d])", (int)src[c]);
     src[c] = i;
     m->mid_has[c] = 1;
-    memcpy(m->mid + c * m->nc, z, (size_t)m->nc * sizeof *z);
+    memcpy(m->mid + c * (size_t)m->nc, z, (size_t)m->nc * sizeof *z);
     return TC_OK;
 }
 
@@ -299,7 +299,7 @@ static int dropped_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t 
 static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t *src, tc_diags *dg) {
     int32_t a = d->midpoint_edge[2 * (size_t)i], b = d->midpoint_edge[2 * (size_t)i + 1];
     int32_t t = d->midpoint_tri ? d->midpoint_tri[i] : -1;
-    const double *z = d->midpoint_values + (size_t)i * m->nc;
+    const double *z = d->midpoint_values + (size_t)i * (size_t)m->nc;
     char path[64];
     snprintf(path, sizeof path, "midpoints[%d].edge", (int)i);
     if (a < 0 || a >= m->nv || b < 0 || b >= m->nv)
@@ -322,7 +322,7 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
 static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
     if (d->nmidpoints == 0) return TC_OK;
     size_t nc = 3 * (size_t)m->nt;
-    m->mid = tc__calloc(nc * m->nc, sizeof *m->mid);
+    m->mid = tc__calloc(nc * (size_t)m->nc, sizeof *m->mid);
     m->mid_has = tc__calloc(nc, sizeof *m->mid_has);
     int32_t *src = s->mid_src = tc__malloc(nc, sizeof *src);
     if (!m->mid || !m->mid_has || !src) return TC_ENOMEM;

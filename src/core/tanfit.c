@@ -102,7 +102,7 @@ static void add_midpoint(const struct tc_mesh *m, hood *h, int32_t e, int ring) 
     int i = h->n++;
     h->d[i][0] = 0.5 * ((a[0] - p[0]) + (b[0] - p[0]));
     h->d[i][1] = 0.5 * ((a[1] - p[1]) + (b[1] - p[1]));
-    h->z[i] = m->mid + (size_t)e * m->nc;
+    h->z[i] = m->mid + (size_t)e * (size_t)m->nc;
     h->key[i] = key, h->ring[i] = (int8_t)ring, h->dup[i] = 0;
 }
 
@@ -117,7 +117,7 @@ static void add_vertex(const struct tc_mesh *m, const double *cz, tc__fit_space 
     fs->vmark[u] = fs->gen;
     int i = fs->vsample[u] = h->n++;
     h->d[i][0] = d[0], h->d[i][1] = d[1];
-    h->z[i] = cz + (size_t)c * m->nc;
+    h->z[i] = cz + (size_t)c * (size_t)m->nc;
     h->key[i] = u, h->ring[i] = (int8_t)ring, h->dup[i] = 0;
 }
 
@@ -127,7 +127,7 @@ static int is_sample(const tc__fit_space *fs, int32_t u) { return fs->vmark[u] =
  * at nearly one position: the later counts as a duplicate. */
 static void note_duplicates(const struct tc_mesh *m, const tc__fit_space *fs, hood *h, int32_t f) {
     for (int k = 0; k < 3; k++) {
-        int32_t a = m->tri[3 * (size_t)f + k], b = m->tri[3 * (size_t)f + (k + 1) % 3];
+        int32_t a = m->tri[3 * (size_t)f + (size_t)k], b = m->tri[3 * (size_t)f + (size_t)(k + 1) % 3];
         if (a == h->v || b == h->v || !is_sample(fs, a) || !is_sample(fs, b)) continue;
         int ia = fs->vsample[a], ib = fs->vsample[b], late = ia > ib ? ia : ib;
         if (h->dup[ia] || h->dup[ib]) continue;
@@ -149,7 +149,7 @@ static void add_face(const struct tc_mesh *m, const double *cz, tc__fit_space *f
 /* Some vertex of f was first reached in ring `ring`. */
 static int touches_ring(const struct tc_mesh *m, const tc__fit_space *fs, const hood *h, int32_t f, int ring) {
     for (int k = 0; k < 3; k++) {
-        int32_t u = m->tri[3 * (size_t)f + k];
+        int32_t u = m->tri[3 * (size_t)f + (size_t)k];
         if (is_sample(fs, u) && h->ring[fs->vsample[u]] == ring) return 1;
     }
     return 0;
@@ -244,7 +244,7 @@ static void fit_sector(const struct tc_mesh *m, const tc__wedge_set *ws, const t
         if (L > RINGS_ALWAYS && h.n - h.ndup >= CUBIC_MIN) break;
         if (!grow_ring(m, ws->honor_flags, cz, fs, &h, L)) break;
     }
-    fit(&h, cz + (size_t)cs[s0] * m->nc, m->nc, g);
+    fit(&h, cz + (size_t)cs[s0] * (size_t)m->nc, m->nc, g);
 }
 
 void tc__fit_wedge(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *cz,

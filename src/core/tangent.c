@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh.h"
@@ -18,14 +19,14 @@
 static void from_midpoints(const struct tc_mesh *m, const double *cz, int32_t c, double *g) {
     int32_t t = c / 3, k = c % 3, nc = m->nc;
     size_t cp = 3 * (size_t)t + (size_t)(k + 1) % 3, cq = 3 * (size_t)t + (size_t)(k + 2) % 3;
-    const double *mvp = m->mid + (size_t)c * nc, *mqv = m->mid + cq * nc;
+    const double *mvp = m->mid + (size_t)c * (size_t)nc, *mqv = m->mid + cq * (size_t)nc;
     double dp[2], dq[2];
     tc__sub(dp, tc__vxy(m, m->tri[cp]), tc__vxy(m, m->tri[c]));
     tc__sub(dq, tc__vxy(m, m->tri[cq]), tc__vxy(m, m->tri[c]));
     for (int ch = 0; ch < nc; ch++) {
-        double zv = cz[(size_t)c * nc + ch];
-        double sp = 4 * mvp[ch] - 3 * zv - cz[cp * nc + ch];
-        double sq = 4 * mqv[ch] - 3 * zv - cz[cq * nc + ch];
+        double zv = cz[tc__ix(c, nc, ch)];
+        double sp = 4 * mvp[ch] - 3 * zv - cz[cp * (size_t)nc + (size_t)ch];
+        double sq = 4 * mqv[ch] - 3 * zv - cz[cq * (size_t)nc + (size_t)ch];
         tc__solve2(dp, dq, sp, sq, g + 2 * ch);
     }
 }
@@ -98,7 +99,7 @@ static void channel_stats(const struct tc_mesh *m, const double *cz, chan_stats 
     for (int ch = 0; ch < nc; ch++) {
         double lo = INFINITY, hi = -INFINITY, big = 0;
         for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-            double z = cz[c * nc + ch];
+            double z = cz[c * (size_t)nc + (size_t)ch];
             if (z < lo) lo = z; /* finite (a mesh invariant): plain compares, not libm calls */
             if (z > hi) hi = z;
             if (fabs(z) > big) big = fabs(z);
@@ -126,9 +127,9 @@ static bound_effect bound_plane(const struct tc_mesh *m, const tc__wedge_set *ws
         for (int32_t i = 0; i < w->count; i++) {
             int32_t c = ws->corners[w->first + i], t = c / 3;
             for (int k = 0; k < 3; k++) {
-                double z = cz[(3 * (size_t)t + (size_t)k) * nc + ch], e[2];
+                double z = cz[tc__ix(3 * t + k, nc, ch)], e[2];
                 lo = fmin(lo, z), hi = fmax(hi, z);
-                tc__sub(e, tc__vxy(m, m->tri[3 * (size_t)t + k]), tc__vxy(m, w->v));
+                tc__sub(e, tc__vxy(m, m->tri[3 * (size_t)t + (size_t)k]), tc__vxy(m, w->v));
                 rise = fmax(rise, fabs(tc__dot(gc, e)));
             }
         }

@@ -1,11 +1,17 @@
 /* wedgeplane.c — one tangent plane per wedge: the paper's WedgeNormal (Figure 6),
- * in gradient form, corrected (default) or literal. See DESIGN.md §1 for the two
- * defects of the literal version and how `corrected` fixes them. */
+ * in gradient form, corrected (default) or literal. Figure 6 as printed has two
+ * defects, both at 180-degree wedges: C0 breaks at a vertex whose only two
+ * delimiters are collinear, one C0 and one C-1 or boundary (the wedge's two side
+ * heights come from different normals), and a kink along a straight C0 line
+ * through a vertex with no other delimiter is flattened (both wedges end up with
+ * the same averaged normal). `corrected` fixes both with one rule (corrected()
+ * below; docs/design-notes.md, "Wedges"). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/plane.h"
@@ -36,12 +42,12 @@ typedef struct {
 } plane_rules;
 
 static const double *avg_of(const plane_rules *pr, int32_t w, int ch) {
-    return pr->avg + (2 * ((size_t)w * pr->nc + ch));
+    return pr->avg + (2 * tc__ix(w, pr->nc, ch));
 }
 
 /* average "area": the area-weighted mean of the faces' gradients. It is linear in
- * the data (scaling every value scales the plane, which DESIGN.md's numerics
- * ask of the whole reconstruction), and a sliver — a face of near-zero area
+ * the data (scaling every value scales the plane, as it must the whole
+ * reconstruction: test_stab_invariance.c), and a sliver — a face of near-zero area
  * whose plane, from three nearly collinear samples, can be wildly steep —
  * cannot tilt it (the stiff scene of the report). */
 static void area_mean(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__wedge *w, const double *inputs,
@@ -160,7 +166,7 @@ static void line_plane(const plane_rules *pr, int32_t L, int ch, double g[2]) {
     }
     if (pr->by_area) g[0] /= wsum, g[1] /= wsum;
     else tc__normal_to_grad(S, g);
-    const double *v = pr->vplane + 2 * ((size_t)L * pr->nc + ch);
+    const double *v = pr->vplane + 2 * tc__ix(L, pr->nc, ch);
     g[0] += k * (v[0] - g[0]);
     g[1] += k * (v[1] - g[1]);
 }
@@ -179,7 +185,7 @@ static void side_plane(const plane_rules *pr, int32_t wi, int s, int ch, double 
         coupling(pr, wi, s, ch, g);
         double k = pr->corrected ? fmax(straightness_c0c0(&pr->ws->w[wi]), straightness_c0c0(&pr->ws->w[o])) : 0;
         if (k > 0) {
-            const double *v = pr->vplane + 2 * ((size_t)wi * pr->nc + ch);
+            const double *v = pr->vplane + 2 * tc__ix(wi, pr->nc, ch);
             g[0] += k * (v[0] - g[0]);
             g[1] += k * (v[1] - g[1]);
         }

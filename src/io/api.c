@@ -124,8 +124,8 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b) {
     int nc = tc_mesh_channel_count(j->mesh);
     size_t n = pts->npoints;
     tc_locator *L = NULL;
-    double *val = malloc((n ? n : 1) * nc * sizeof *val);
-    double *grad = pts->with_gradients ? malloc((n ? n : 1) * 2 * nc * sizeof *grad) : NULL;
+    double *val = malloc((n ? n : 1) * (size_t)nc * sizeof *val);
+    double *grad = pts->with_gradients ? malloc((n ? n : 1) * 2 * (size_t)nc * sizeof *grad) : NULL;
     int32_t *tri = malloc((n ? n : 1) * sizeof *tri);
     int rc = !val || !tri || (pts->with_gradients && !grad) ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
     if (rc == TC_OK) {
@@ -225,7 +225,7 @@ static int format_of(const tc_request *req, int fallback) {
 static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
     const tc_request *req = j->req;
     const tc_viewport *vp = &req->viewport;
-    size_t np = (size_t)vp->width * vp->height, nc = (size_t)tc_mesh_channel_count(j->mesh);
+    size_t np = (size_t)vp->width * (size_t)vp->height, nc = (size_t)tc_mesh_channel_count(j->mesh);
     tc_locator *L = NULL;
     t->values = malloc(np * nc * sizeof *t->values);
     t->alpha = malloc(np * sizeof *t->alpha);
@@ -251,7 +251,7 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
  * otherwise write infinities that /v1/evaluate does not give. */
 static void saturate(const job *j, int fmt, tile *t, tc_api_result *res) {
     double bound = tc_img_traits_of((tc_img_format)fmt)->max_sample;
-    size_t n = (size_t)j->req->viewport.width * j->req->viewport.height * (size_t)tc_mesh_channel_count(j->mesh);
+    size_t n = (size_t)j->req->viewport.width * (size_t)j->req->viewport.height * (size_t)tc_mesh_channel_count(j->mesh);
     if (!(bound > 0)) return;
     float b = (float)bound;
     int64_t count = 0;

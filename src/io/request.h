@@ -1,4 +1,5 @@
-/* request.h — reads a JSON request (DESIGN.md §3) into a tc_mesh_desc, options and points.
+/* request.h — reads a JSON request (the format of README.md and api/openapi.yaml) into a
+ * tc_mesh_desc, options and points.
  * Shape errors and value errors are told apart so the server can answer 400 or 422. */
 #ifndef TC_IO_REQUEST_H
 #define TC_IO_REQUEST_H

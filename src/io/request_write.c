@@ -1,5 +1,5 @@
-/* request_write.c — writes a mesh description as a request (DESIGN.md §3): the
- * scene front-end's output, readable by tc_request_parse to the same doubles. */
+/* request_write.c — writes a mesh description as a request (the format request.h
+ * reads): the scene front-end's output, readable by tc_request_parse to the same doubles. */
 #include "io/request_write.h"
 #include "io/jsonout.h"
 #include "io/options.h"
@@ -27,7 +27,7 @@ static void vectors(tc_strbuf *b, const double *g, int nc, int dim) {
     tc_strbuf_putc(b, '[');
     for (int ch = 0; ch < nc; ch++) {
         if (ch) tc_strbuf_putc(b, ',');
-        tc_json_numbers(b, g + (size_t)ch * dim, dim);
+        tc_json_numbers(b, g + (size_t)ch * (size_t)dim, dim);
     }
     tc_strbuf_putc(b, ']');
 }
@@ -56,7 +56,7 @@ static void geometry(tc_strbuf *b, const tc_mesh_desc *d) {
     tc_strbuf_puts(b, "]");
     member(b, is_quads(d) ? "quads" : "triangles");
     tc_strbuf_putc(b, '[');
-    for (int32_t t = 0; t < n && !b->oom; t++) item(b, (size_t)t), tc_json_ints(b, el + (size_t)nk * t, nk);
+    for (int32_t t = 0; t < n && !b->oom; t++) item(b, (size_t)t), tc_json_ints(b, el + (size_t)nk * (size_t)t, nk);
     tc_strbuf_puts(b, "]");
 }
 
@@ -64,7 +64,7 @@ static void values(tc_strbuf *b, const tc_mesh_desc *d) {
     int nc = d->nchan;
     member(b, "values");
     tc_strbuf_putc(b, '[');
-    for (int32_t v = 0; v < d->nverts && !b->oom; v++) item(b, (size_t)v), sample(b, d->values + (size_t)v * nc, nc);
+    for (int32_t v = 0; v < d->nverts && !b->oom; v++) item(b, (size_t)v), sample(b, d->values + (size_t)v * (size_t)nc, nc);
     tc_strbuf_puts(b, "]");
     if (!d->ncorner_values) return;
     member(b, "corner_values");
@@ -77,7 +77,7 @@ static void values(tc_strbuf *b, const tc_mesh_desc *d) {
         tc_strbuf_puts(b, ",\"values\":[");
         for (int k = 0; k < nk; k++) {
             if (k) tc_strbuf_putc(b, ',');
-            sample(b, d->corner_values + ((size_t)nk * i + k) * nc, nc);
+            sample(b, d->corner_values + ((size_t)nk * (size_t)i + (size_t)k) * (size_t)nc, nc);
         }
         tc_strbuf_puts(b, "]}");
     }
@@ -93,7 +93,7 @@ static void vertex_vectors(tc_strbuf *b, const char *name, const double *x, cons
     for (int32_t v = 0; v < d->nverts && !b->oom; v++) {
         item(b, (size_t)v);
         if (mask && !mask[v]) tc_strbuf_puts(b, "null");
-        else vectors(b, x + (size_t)v * d->nchan * dim, d->nchan, dim);
+        else vectors(b, x + (size_t)v * (size_t)d->nchan * (size_t)dim, d->nchan, dim);
     }
     tc_strbuf_puts(b, "]");
 }
@@ -110,8 +110,8 @@ static void corner_gradients(tc_strbuf *b, const tc_mesh_desc *d) {
         tc_strbuf_puts(b, ",\"gradients\":[");
         for (size_t k = 0; k < nk; k++) {
             if (k) tc_strbuf_putc(b, ',');
-            if (d->corner_gradients_mask && !d->corner_gradients_mask[nk * i + k]) tc_strbuf_puts(b, "null");
-            else vectors(b, d->corner_gradients + (nk * i + k) * stride, d->nchan, 2);
+            if (d->corner_gradients_mask && !d->corner_gradients_mask[nk * (size_t)i + k]) tc_strbuf_puts(b, "null");
+            else vectors(b, d->corner_gradients + (nk * (size_t)i + k) * stride, d->nchan, 2);
         }
         tc_strbuf_puts(b, "]}");
     }
@@ -127,7 +127,7 @@ static void midpoints(tc_strbuf *b, const tc_mesh_desc *d) {
         tc_strbuf_puts(b, "{\"edge\":");
         tc_json_ints(b, d->midpoint_edge + 2 * (size_t)i, 2);
         tc_strbuf_puts(b, ",\"value\":");
-        sample(b, d->midpoint_values + (size_t)i * d->nchan, d->nchan);
+        sample(b, d->midpoint_values + (size_t)i * (size_t)d->nchan, d->nchan);
         if (d->midpoint_tri && d->midpoint_tri[i] >= 0) element_member(b, d, d->midpoint_tri[i], 0);
         tc_strbuf_putc(b, '}');
     }
@@ -148,9 +148,9 @@ static void polylines(tc_strbuf *b, const char *name, const tc_polylines *p, int
     tc_strbuf_puts(b, "]");
 }
 
-/* The mesh options that differ from the request format's defaults (left out
- * they would read back as those), then, when o is not NULL, "method" and the
- * options it reads (the rest would change nothing). */
+/* The option rows in order: when o is not NULL, "method" and the options it
+ * reads (the rest would change nothing); the mesh options that differ from the
+ * request format's defaults (left out they would read back as those). */
 static void options(tc_strbuf *b, const tc_mesh_desc *d, const tc_options *o) {
     for (int i = 0; i < tc_opt_count(); i++) {
         const tc_opt *row = tc_opt_at(i);

@@ -2,6 +2,7 @@
  * tc_strbuf_double so every double parses back to itself. */
 #include "io/response.h"
 #include "io/jsonout.h"
+#include "core/alloc.h"
 
 static void member(tc_strbuf *b, const char *name) { tc_json_key(b, ",", name); }
 
@@ -32,7 +33,7 @@ void tc_json_ordinates(tc_strbuf *b, const tc_recon *r) {
         tc_strbuf_putc(b, '[');
         for (int ch = 0; ch < nc; ch++) {
             if (ch) tc_strbuf_putc(b, ',');
-            tc_json_numbers(b, coef + ((size_t)t * nc + ch) * nk, nk);
+            tc_json_numbers(b, coef + tc__ix(t, nc, ch) * (size_t)nk, nk);
         }
         tc_strbuf_putc(b, ']');
     }
@@ -51,7 +52,7 @@ static void point_entry(tc_strbuf *b, const double *x, int nc, int width, int pl
         for (int ch = 0; ch < nc; ch++) {
             if (ch) tc_strbuf_putc(b, ',');
             if (width == 1) tc_strbuf_double(b, x[ch]);
-            else tc_json_numbers(b, x + (size_t)ch * width, width);
+            else tc_json_numbers(b, x + (size_t)ch * (size_t)width, width);
         }
         tc_strbuf_putc(b, ']');
     }
@@ -63,7 +64,7 @@ void tc_json_points(tc_strbuf *b, int nc, size_t n, const double *values, const 
     tc_strbuf_putc(b, '[');
     for (size_t i = 0; i < n; i++) {
         if (i) tc_strbuf_putc(b, ',');
-        point_entry(b, values + i * nc, nc, 1, plain, tri && tri[i] < 0);
+        point_entry(b, values + i * (size_t)nc, nc, 1, plain, tri && tri[i] < 0);
     }
     tc_strbuf_putc(b, ']');
     if (grads) {
@@ -71,7 +72,7 @@ void tc_json_points(tc_strbuf *b, int nc, size_t n, const double *values, const 
         tc_strbuf_putc(b, '[');
         for (size_t i = 0; i < n; i++) {
             if (i) tc_strbuf_putc(b, ',');
-            point_entry(b, grads + 2 * i * nc, nc, 2, plain, tri && tri[i] < 0);
+            point_entry(b, grads + 2 * i * (size_t)nc, nc, 2, plain, tri && tri[i] < 0);
         }
         tc_strbuf_putc(b, ']');
     }

@@ -277,7 +277,7 @@ static int corner_values(ctx *c) {
         if (!elem_differs(c, e)) continue;
         m->corner_values_tri_[n] = e;
         elem_corners(c, e, id);
-        for (int k = 0; k < nk; k++) m->corner_values_[(size_t)nk * n + k] = c->cz[id[k]];
+        for (int k = 0; k < nk; k++) m->corner_values_[(size_t)nk * (size_t)n + (size_t)k] = c->cz[id[k]];
         n++;
     }
     m->desc.ncorner_values = n;
@@ -363,7 +363,7 @@ static int gradients(ctx *c) {
     if (!m->corner_gradients_tri_ || !m->corner_gradients_) return TC_ENOMEM;
     for (int32_t e = 0; e < ne; e++) {
         m->corner_gradients_tri_[e] = e;
-        for (int k = 0; k < nk; k++) elem_corner_gradient(c, e, k, m->corner_gradients_ + 2 * ((size_t)nk * e + k));
+        for (int k = 0; k < nk; k++) elem_corner_gradient(c, e, k, m->corner_gradients_ + 2 * ((size_t)nk * (size_t)e + (size_t)k));
     }
     m->desc.ncorner_gradients = ne;
     m->gradient_samples += 8 * (int64_t)nk * ne; /* 4 per edge, 2 edges per corner */

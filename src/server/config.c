@@ -84,7 +84,7 @@ static int parse_listen(tc_srv_config *c, const char *s) {
     errno = 0;
     long p = strtol(colon + 1, &end, 10);
     if (errno || end == colon + 1 || *end || p < 0 || p > 65535) return -1;
-    memcpy(c->host, h, he - h);
+    memcpy(c->host, h, (size_t)(he - h));
     c->host[he - h] = '\0';
     c->port = p;
     return 0;

@@ -50,10 +50,10 @@ void tc_log_notice(const char *fmt, ...) {
     int n = snprintf(line, sizeof line, "tocherd: ");
     va_list ap;
     va_start(ap, fmt);
-    int m = vsnprintf(line + n, sizeof line - n - 1, fmt, ap);
+    int m = vsnprintf(line + n, sizeof line - (size_t)n - 1, fmt, ap);
     va_end(ap);
     if (m < 0) return;
-    n += m < (int)(sizeof line - n - 1) ? m : (int)(sizeof line - n - 2);
+    n += m < (int)(sizeof line - (size_t)n - 1) ? m : (int)(sizeof line - (size_t)n - 2);
     line[n++] = '\n';
     emit(line, n);
 }

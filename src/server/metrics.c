@@ -91,7 +91,7 @@ static void write_histogram(tc_strbuf *o) {
             if (b < NB) tc_strbuf_printf(o, "%s_bucket{route=\"%s\",le=\"%g\"} %llu\n", h, labels[s], bounds[b], cum);
             else tc_strbuf_printf(o, "%s_bucket{route=\"%s\",le=\"+Inf\"} %llu\n", h, labels[s], cum);
         }
-        tc_strbuf_printf(o, "%s_sum{route=\"%s\"} %.9f\n", h, labels[s], get(&sum_ns[s]) * 1e-9);
+        tc_strbuf_printf(o, "%s_sum{route=\"%s\"} %.9f\n", h, labels[s], (double)get(&sum_ns[s]) * 1e-9);
         tc_strbuf_printf(o, "%s_count{route=\"%s\"} %llu\n", h, labels[s], cum);
     }
 }

@@ -119,7 +119,7 @@ static void scale_array(const double *p, size_t n, double k) {
 /* Normals (n_x, n_y, n_z) -> (a n_x, a n_y, b n_z), renormalized: slopes times a / b. */
 static void scale_normals(sdesc *s, double a, double b) {
     double *n = (double *)s->d.normals;
-    for (size_t i = 0; n && i < (size_t)s->d.nverts * s->d.nchan; i++) {
+    for (size_t i = 0; n && i < (size_t)s->d.nverts * (size_t)s->d.nchan; i++) {
         double x = a * n[3 * i], y = a * n[3 * i + 1], z = b * n[3 * i + 2], len = hypot(hypot(x, y), z);
         if (!(len > 0) || !isfinite(len)) continue;
         n[3 * i] = x / len, n[3 * i + 1] = y / len, n[3 * i + 2] = z / len;
@@ -184,12 +184,12 @@ static int32_t all_edges(const tc_mesh_desc *d, int32_t **out) {
 void sdesc_add_midpoints(sdesc *s, tfunc f, const void *ctx) {
     tc_mesh_desc *d = &s->d;
     int32_t *e, n = all_edges(d, &e), nc = d->nchan;
-    double *val = keep(s, xmalloc((size_t)n * nc * sizeof *val));
+    double *val = keep(s, xmalloc((size_t)n * (size_t)nc * sizeof *val));
     for (int32_t i = 0; i < n; i++) {
         const double *a = d->xy + 2 * (size_t)e[2 * i], *b = d->xy + 2 * (size_t)e[2 * i + 1];
         for (int ch = 0; ch < nc; ch++) {
             double g[2];
-            f(ctx, 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), ch, &val[(size_t)i * nc + ch], g);
+            f(ctx, 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), ch, &val[(size_t)i * (size_t)nc + (size_t)ch], g);
         }
     }
     d->nmidpoints = n, d->midpoint_edge = keep(s, e), d->midpoint_tri = NULL, d->midpoint_values = val;

@@ -54,10 +54,10 @@ static void tri_scales(const tc_recon *r, int32_t t, double *vs, double *gs) {
         double len = hypot(b[0] - a[0], b[1] - a[1]);
         lmax = fmax(lmax, len);
         for (int ch = 0; ch < nc; ch++) {
-            size_t c = 3 * (size_t)t + k, c2 = 3 * (size_t)t + (k + 1) % 3;
-            zmax = fmax(zmax, fabs(m->cz[c * nc + ch]));
-            *gs = fmax(*gs, fabs(m->cz[c2 * nc + ch] - m->cz[c * nc + ch]) / len);
-            if (cg) *gs = fmax(*gs, hypot(cg[(c * nc + ch) * 2], cg[(c * nc + ch) * 2 + 1]));
+            size_t c = 3 * (size_t)t + (size_t)k, c2 = 3 * (size_t)t + (size_t)(k + 1) % 3;
+            zmax = fmax(zmax, fabs(m->cz[c * (size_t)nc + (size_t)ch]));
+            *gs = fmax(*gs, fabs(m->cz[c2 * (size_t)nc + (size_t)ch] - m->cz[c * (size_t)nc + (size_t)ch]) / len);
+            if (cg) *gs = fmax(*gs, hypot(cg[(c * (size_t)nc + (size_t)ch) * 2], cg[(c * (size_t)nc + (size_t)ch) * 2 + 1]));
         }
     }
     *vs = fmax(vfloor, zmax + *gs * lmax);
@@ -75,8 +75,8 @@ static void on_edge(const tc_recon *r, int32_t t, int32_t a, int32_t b, double s
     tc__at(m, t, pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1]), &at);
     int ka = tc__corner_of(m, t, a), kb = tc__corner_of(m, t, b);
     at.lam[ka] = 1 - s, at.lam[kb] = s, at.lam[3 - ka - kb] = 0;
-    const double *coef = r->coef + (size_t)t * m->nc * r->ncoef;
-    for (int ch = 0; ch < m->nc; ch++) r->eval(coef + (size_t)ch * r->ncoef, &at, v + ch, g + 2 * ch);
+    const double *coef = r->coef + (size_t)t * (size_t)m->nc * (size_t)r->ncoef;
+    for (int ch = 0; ch < m->nc; ch++) r->eval(coef + (size_t)ch * (size_t)r->ncoef, &at, v + ch, g + 2 * ch);
 }
 
 /* Mismatch of the pieces of t and its neighbour along their edge k, values and
@@ -117,7 +117,7 @@ static void edge_residual(const tc_recon *r, int32_t t, int k, double *rv, doubl
 /* All corners of vertex v carry the same values. */
 static int single_valued(const tc_mesh *m, int32_t v) {
     for (int32_t i = m->vstart[v] + 1; i < m->vstart[v + 1]; i++)
-        if (memcmp(m->cz + (size_t)m->vcorner[i] * m->nc, m->cz + (size_t)m->vcorner[m->vstart[v]] * m->nc,
+        if (memcmp(m->cz + (size_t)m->vcorner[i] * (size_t)m->nc, m->cz + (size_t)m->vcorner[m->vstart[v]] * (size_t)m->nc,
                    (size_t)m->nc * sizeof *m->cz))
             return 0;
     return 1;
@@ -133,7 +133,7 @@ static double corner_residual(const tc_recon *r, int skip_multi) {
             if (skip_multi && !single_valued(m, v)) continue;
             tc_eval_triangle(r, t, tc__vxy(m, v)[0], tc__vxy(m, v)[1], val, NULL);
             for (int ch = 0; ch < m->nc; ch++) {
-                double d = fabs(val[ch] - m->cz[(3 * (size_t)t + k) * m->nc + ch]) / vs;
+                double d = fabs(val[ch] - m->cz[(3 * (size_t)t + (size_t)k) * (size_t)m->nc + (size_t)ch]) / vs;
                 worst = isfinite(d) ? fmax(worst, d) : INFINITY;
             }
         }
@@ -196,7 +196,7 @@ static double internal_tri(const tc_recon *r, int32_t t) {
             double L[3];
             for (int q = 0; q < 3; q++) L[q] = (1 - S[j]) * (q == i) + S[j] / 3;
             for (int ch = 0; ch < nc; ch++) {
-                const double *o = tc_recon_coefs(r) + ((size_t)t * nc + ch) * TC_CT_ORDINATES;
+                const double *o = tc_recon_coefs(r) + ((size_t)t * (size_t)nc + (size_t)ch) * TC_CT_ORDINATES;
                 double va, vb, ga[2], gb[2];
                 tc__ct_eval_sub(o, (i + 1) % 3, L, dl1, dl2, &va, ga);
                 tc__ct_eval_sub(o, (i + 2) % 3, L, dl1, dl2, &vb, gb);
@@ -285,11 +285,12 @@ static void sample_at(const tc_recon *r, int32_t t, double x, double y, stab_ran
 
 static void data_range(const tc_mesh *m, stab_range *s) {
     s->zmin = INFINITY, s->zmax = -INFINITY;
-    for (size_t i = 0; i < 3 * (size_t)m->nt * m->nc; i++)
+    for (size_t i = 0; i < 3 * (size_t)m->nt * (size_t)m->nc; i++)
         s->zmin = fmin(s->zmin, m->cz[i]), s->zmax = fmax(s->zmax, m->cz[i]);
     for (size_t c = 0; m->mid && c < 3 * (size_t)m->nt; c++)
         for (int ch = 0; m->mid_has[c] && ch < m->nc; ch++)
-            s->zmin = fmin(s->zmin, m->mid[c * m->nc + ch]), s->zmax = fmax(s->zmax, m->mid[c * m->nc + ch]);
+            s->zmin = fmin(s->zmin, m->mid[c * (size_t)m->nc + (size_t)ch]),
+            s->zmax = fmax(s->zmax, m->mid[c * (size_t)m->nc + (size_t)ch]);
 }
 
 void stab_sample(const tc_recon *r, int per_tri, uint64_t seed, stab_range *s) {

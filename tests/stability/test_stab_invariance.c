@@ -95,8 +95,8 @@ typedef struct {
 static void eval_known(const tc_recon *r, const evals *pts, double s, double *v, double *g) {
     int nc = tc_mesh_channel_count(tc_recon_mesh(r));
     for (int32_t i = 0; i < pts->n; i++)
-        tc_eval_triangle(r, pts->tri[i], s * pts->xy[2 * i], s * pts->xy[2 * i + 1], v + (size_t)i * nc,
-                         g + (size_t)i * nc * 2);
+        tc_eval_triangle(r, pts->tri[i], s * pts->xy[2 * i], s * pts->xy[2 * i + 1], v + (size_t)i * (size_t)nc,
+                         g + (size_t)i * (size_t)nc * 2);
 }
 
 static void set_scales(evals *e, int nc) {
@@ -130,13 +130,13 @@ static double translated(const sdesc *base, const tc_options *o, const srun *ref
         fig = 1; /* the reference reconstructed: a changed outcome */
     } else {
         int nc = tc_mesh_channel_count(x.m), ncoef = tc_recon_coef_count(x.r);
-        size_t ncoefs = (size_t)tc_mesh_triangle_count(x.m) * nc * ncoef;
+        size_t ncoefs = (size_t)tc_mesh_triangle_count(x.m) * (size_t)nc * (size_t)ncoef;
         const double *c0 = tc_recon_coefs(ref->r), *c1 = tc_recon_coefs(x.r);
         double cs = 1e-300, v[MAXP * 2], xy[2 * MAXP];
         for (size_t i = 0; i < ncoefs; i++) cs = fmax(cs, fabs(c0[i]));
         for (int32_t i = 0; i < pts->n; i++) xy[2 * i] = pts->xy[2 * i] + off, xy[2 * i + 1] = pts->xy[2 * i + 1] - off;
         tc_eval_points(x.r, x.L, (size_t)pts->n, xy, v, NULL, NULL);
-        fig = fmax(max_rel(v, pts->v, (size_t)pts->n * nc, 1, pts->vscale), max_rel(c1, c0, ncoefs, 1, cs));
+        fig = fmax(max_rel(v, pts->v, (size_t)pts->n * (size_t)nc, 1, pts->vscale), max_rel(c1, c0, ncoefs, 1, cs));
     }
     srun_end(&x);
     sdesc_free(&s);
@@ -209,7 +209,7 @@ static double scaled(const sdesc *base, const tc_options *o, const evals *pts, d
     if (srun_start(&x, &s.d, o)) {
         stab_acc_refusal(a, &x);
     } else {
-        size_t n = (size_t)pts->n * tc_mesh_channel_count(x.m);
+        size_t n = (size_t)pts->n * (size_t)tc_mesh_channel_count(x.m);
         eval_known(x.r, pts, xy ? k : 1, v, g);
         double vk = xy ? 1 : 1 / k, gk = xy ? k : 1 / k;
         fig = fmax(max_rel(v, pts->v, n, vk, pts->vscale), max_rel(g, pts->g, 2 * n, gk, pts->gscale));

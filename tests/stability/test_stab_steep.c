@@ -55,7 +55,7 @@ static void grid_desc(grid *g, int quads, int kind, int flags, tc_mesh_desc *d) 
             g->cg_tri[e] = e;
             for (int k = 0; k < nk; k++) {
                 int32_t v = quads ? g->quad[4 * e + k] : g->tri[3 * e + k];
-                memcpy(g->cg + 2 * ((size_t)e * nk + k), g->grad + 2 * v, 2 * sizeof(double));
+                memcpy(g->cg + 2 * ((size_t)e * (size_t)nk + (size_t)k), g->grad + 2 * v, 2 * sizeof(double));
             }
         }
         d->ncorner_gradients = ne, d->corner_gradients_tri = g->cg_tri, d->corner_gradients = g->cg;

@@ -144,7 +144,7 @@ typedef struct {
 /* Continuity in the angle, measured per decade of it: a jump (at a threshold)
  * shows as a change that does not shrink with the step, a 1/sin blow-up as one
  * that grows as the angle shrinks; a change spread over a band of decades (the
- * theorem forces one between "kink allowed" and "no kink": DESIGN.md, wedgeplane.c)
+ * theorem forces one between "kink allowed" and "no kink": wedgeplane.c)
  * stays bounded. Values at fixed points relative to the data's range, and the
  * largest gradient relative to the data's. */
 static void record_change(const fan *fn, int v, double logd, double ratio, const double *val, wedge_figs *f,
@@ -231,7 +231,7 @@ static void wedge_case(int cfg) {
     STAB_REPORT(CFG_NAME[cfg], "max |grad| / max given corner gradient (180 +- 1e-1..1e-12 deg, straight)", f.grad,
                 GRAD_FACTOR, 0);
     /* Literal wedges switch rules at the collinearity tolerance as the paper does
-     * (DESIGN.md §1's defects are about this case): measured, not bounded. */
+     * (Figure 6's two defects, wedgeplane.c, are about this case): measured, not bounded. */
     STAB_REPORT(CFG_NAME[cfg], "change of values per decade of the bend / data range", f.jump, CHANGE_PER_DECADE,
                 STAB_EXEMPT_LITERAL);
     STAB_REPORT(CFG_NAME[cfg], "change of max |grad| / given per decade of the bend", f.gjump, GRAD_CHANGE_PER_DECADE,
@@ -388,7 +388,7 @@ TEST(stab_three_c0_edges_two_nearly_straight) {
             for (int id = 0; id < 12; id++) {
                 double delta = (id % 2 ? -1 : 1) * deltas[id / 2];
                 tc_mesh_desc d;
-                three_fan_build(&f, thirds[it], delta, 1000 * it + id, &d);
+                three_fan_build(&f, thirds[it], delta, (uint64_t)(1000 * it + id), &d);
                 tc_options o;
                 stab_options(v, TC_TANGENTS_GIVEN, &o);
                 if (o.method == TC_METHOD_CONSTANT) continue; /* continuous nowhere */

@@ -252,7 +252,7 @@ static void sample_midpoints(tmesh *m, tfunc f, const void *ctx, const int32_t *
     int nc = m->nc;
     m->mid_edge = xcalloc(6 * (size_t)m->nt, sizeof *m->mid_edge);
     m->mid_tri = xcalloc(3 * (size_t)m->nt, sizeof *m->mid_tri);
-    m->mid_val = xcalloc(3 * (size_t)m->nt * nc, sizeof *m->mid_val);
+    m->mid_val = xcalloc(3 * (size_t)m->nt * (size_t)nc, sizeof *m->mid_val);
     for (int32_t c = 0; c < 3 * m->nt; c++) {
         int32_t t = c / 3, k = c % 3, t2 = m->enbr[c];
         int split = t2 >= 0 && m->eflag[c] == TC_CM1;
@@ -263,34 +263,34 @@ static void sample_midpoints(tmesh *m, tfunc f, const void *ctx, const int32_t *
         m->mid_tri[i] = split ? t : -1;
         for (int ch = 0; ch < nc; ch++) {
             double g[2], off = 0.5 * jump * (sector[c] + sector[3 * t + (k + 1) % 3]) * (1 + 0.1 * ch);
-            f(ctx, 0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), ch, &m->mid_val[(size_t)i * nc + ch], g);
-            m->mid_val[(size_t)i * nc + ch] += off;
+            f(ctx, 0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), ch, &m->mid_val[(size_t)i * (size_t)nc + (size_t)ch], g);
+            m->mid_val[(size_t)i * (size_t)nc + (size_t)ch] += off;
         }
     }
 }
 
 void tmesh_sample(tmesh *m, int nc, tfunc f, const void *ctx, int with_grads, int with_mid, double jump) {
     m->nc = nc;
-    m->values = xcalloc((size_t)m->nv * nc, sizeof *m->values);
-    if (with_grads) m->grads = xcalloc((size_t)m->nv * nc * 2, sizeof *m->grads);
+    m->values = xcalloc((size_t)m->nv * (size_t)nc, sizeof *m->values);
+    if (with_grads) m->grads = xcalloc((size_t)m->nv * (size_t)nc * 2, sizeof *m->grads);
     for (int32_t v = 0; v < m->nv; v++)
         for (int ch = 0; ch < nc; ch++) {
             double g[2];
-            f(ctx, m->xy[2 * v], m->xy[2 * v + 1], ch, &m->values[(size_t)v * nc + ch], g);
-            if (with_grads) memcpy(m->grads + ((size_t)v * nc + ch) * 2, g, sizeof g);
+            f(ctx, m->xy[2 * v], m->xy[2 * v + 1], ch, &m->values[(size_t)v * (size_t)nc + (size_t)ch], g);
+            if (with_grads) memcpy(m->grads + ((size_t)v * (size_t)nc + (size_t)ch) * 2, g, sizeof g);
         }
     int32_t *sector = xcalloc(3 * (size_t)m->nt, sizeof *sector);
     sectors(m, sector);
     m->cv_tri = xcalloc((size_t)m->nt, sizeof *m->cv_tri);
-    m->cv = xcalloc(3 * (size_t)m->nt * nc, sizeof *m->cv);
+    m->cv = xcalloc(3 * (size_t)m->nt * (size_t)nc, sizeof *m->cv);
     for (int32_t t = 0; t < m->nt && jump != 0; t++) {
         if (!sector[3 * t] && !sector[3 * t + 1] && !sector[3 * t + 2]) continue;
         int32_t i = m->ncv++;
         m->cv_tri[i] = t;
         for (int k = 0; k < 3; k++)
             for (int ch = 0; ch < nc; ch++)
-                m->cv[((size_t)i * 3 + k) * nc + ch] =
-                    m->values[(size_t)m->tri[3 * t + k] * nc + ch] + jump * sector[3 * t + k] * (1 + 0.1 * ch);
+                m->cv[((size_t)i * 3 + (size_t)k) * (size_t)nc + (size_t)ch] =
+                    m->values[(size_t)m->tri[3 * t + k] * (size_t)nc + (size_t)ch] + jump * sector[3 * t + k] * (1 + 0.1 * ch);
     }
     if (with_mid) sample_midpoints(m, f, ctx, sector, jump);
     free(sector);

@@ -53,12 +53,12 @@ void qmesh_grid(qmesh *m, int nx, int ny, const qgrid_opts *o, trng *r) {
 void qmesh_sample(qmesh *m, int nc, qfunc f, const void *ctx) {
     m->nc = nc;
     free(m->values), free(m->grads), free(m->hess);
-    m->values = xcalloc((size_t)m->nv * nc, sizeof *m->values);
-    m->grads = xcalloc((size_t)m->nv * nc * 2, sizeof *m->grads);
-    m->hess = xcalloc((size_t)m->nv * nc * 3, sizeof *m->hess);
+    m->values = xcalloc((size_t)m->nv * (size_t)nc, sizeof *m->values);
+    m->grads = xcalloc((size_t)m->nv * (size_t)nc * 2, sizeof *m->grads);
+    m->hess = xcalloc((size_t)m->nv * (size_t)nc * 3, sizeof *m->hess);
     for (int32_t v = 0; v < m->nv; v++)
         for (int ch = 0; ch < nc; ch++) {
-            size_t i = (size_t)v * nc + ch;
+            size_t i = (size_t)v * (size_t)nc + (size_t)ch;
             f(ctx, m->xy[2 * v], m->xy[2 * v + 1], ch, &m->values[i], m->grads + 2 * i, m->hess + 3 * i);
         }
 }

@@ -149,7 +149,7 @@ static void check_points_bits(const char *file, int line, const numlist *nl, siz
             continue;
         }
         for (int j = 0; j < nc * width; j++, k++) {
-            double want = x[i * (size_t)nc * width + j];
+            double want = x[i * (size_t)nc * (size_t)width + (size_t)j];
             if (k >= nl->n || nl->null[k] || !same_bits(nl->v[k], want)) {
                 if (bad++ < 3)
                     tc_test_fail(file, line, "point %zu number %d: printed %.17g, core %.17g", i, j,
@@ -247,7 +247,7 @@ static void check_ordinates_doc(const char *file, int line, const char *body, si
 
     static numlist nl;
     const double *coef = tc_recon_coefs(r.recon);
-    size_t total = (size_t)nt * nc * TC_CT_ORDINATES, bad = 0;
+    size_t total = (size_t)nt * (size_t)nc * TC_CT_ORDINATES, bad = 0;
     if (scan_member(out->buf, "ordinates", &nl) == 0) {
         if (nl.n != total) tc_test_fail(file, line, "%zu ordinates printed, expected %zu", nl.n, total);
         for (size_t i = 0; i < nl.n && i < total; i++)
@@ -368,7 +368,7 @@ static void check_eval_doc(const char *file, int line, const char *body, const c
     }
     size_t n = preq->npoints;
     int nc = tc_mesh_channel_count(r.mesh);
-    double *val = calloc(n * nc + 1, sizeof *val), *grad = calloc(2 * n * nc + 1, sizeof *grad);
+    double *val = calloc(n * (size_t)nc + 1, sizeof *val), *grad = calloc(2 * n * (size_t)nc + 1, sizeof *grad);
     int32_t *tri = calloc(n + 1, sizeof *tri);
     tc_eval_points(r.recon, r.L, n, preq->points, val, grad, tri);
 
@@ -780,8 +780,8 @@ static void check_vertex_values(const char *file, int line, const char *method, 
     int st = run_evaluate(body, NULL, &out, &res);
     if (st != 200) tc_test_fail(file, line, "%s/%d: status %d", method, nchan, st);
     if (st == 200 && scan_member(out.buf, "values", &nl) == 0) {
-        if (nl.n != (size_t)AWK_N * nchan) tc_test_fail(file, line, "%s/%d: %zu values", method, nchan, nl.n);
-        for (size_t k = 0; k < nl.n && k < (size_t)AWK_N * nchan; k++) {
+        if (nl.n != (size_t)AWK_N * (size_t)nchan) tc_test_fail(file, line, "%s/%d: %zu values", method, nchan, nl.n);
+        for (size_t k = 0; k < nl.n && k < (size_t)AWK_N * (size_t)nchan; k++) {
             int i = (int)(nchan == 1 ? k : k / 2), c = nchan == 1 ? 0 : (int)(k % 2);
             double want = awk_value(c ? (i + 4) % AWK_N : i);
             int ok = !nl.null[k] && (want == 0 ? nl.v[k] == 0 : same_bits(nl.v[k], want));
@@ -816,12 +816,12 @@ TEST(api_numbers_round_trip) {
                 static const int32_t tris[8][3] = {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4},
                                                    {3, 4, 7}, {3, 7, 6}, {4, 5, 8}, {4, 8, 7}};
                 int nk = m < 2 ? TC_CT_ORDINATES : 3; /* linear: u v w */
-                CHECK_MSG(nl.n == (size_t)8 * nchan * nk, "%s/%d: %zu ordinates", methods[m], nchan, nl.n);
-                for (int t = 0; t < 8 && nl.n == (size_t)8 * nchan * nk; t++)
+                CHECK_MSG(nl.n == (size_t)8 * (size_t)nchan * (size_t)nk, "%s/%d: %zu ordinates", methods[m], nchan, nl.n);
+                for (int t = 0; t < 8 && nl.n == (size_t)8 * (size_t)nchan * (size_t)nk; t++)
                     for (int c = 0; c < nchan; c++)
                         for (int k = 0; k < 3; k++) {
                             double want = awk_value(c ? (tris[t][k] + 4) % AWK_N : tris[t][k]);
-                            double got = nl.v[((size_t)t * nchan + c) * nk + k];
+                            double got = nl.v[((size_t)t * (size_t)nchan + (size_t)c) * (size_t)nk + (size_t)k];
                             CHECK_MSG(same_bits(got, want), "%s/%d: triangle %d corner %d: got %.17g, input %.17g",
                                       methods[m], nchan, t, k, got, want);
                         }

@@ -31,7 +31,8 @@ void recon_scales(const tc_recon *r, double *vs, double *gs) {
         for (int k = 0; k < 3; k++)
             for (int ch = 0; ch < nc; ch++) {
                 *vs = fmax(*vs, fabs(tc_mesh_corner_value(m, t, k)[ch]));
-                if (cg) *gs = fmax(*gs, hypot(cg[((3 * (size_t)t + k) * nc + ch) * 2], cg[((3 * (size_t)t + k) * nc + ch) * 2 + 1]));
+                size_t i = (3 * (size_t)t + (size_t)k) * (size_t)nc + (size_t)ch;
+                if (cg) *gs = fmax(*gs, hypot(cg[i * 2], cg[i * 2 + 1]));
             }
     *gs = fmax(*gs, *vs);
 }
@@ -76,7 +77,7 @@ static double internal_residual(const tc_recon *r, double vs, double gs) {
                 double L[3];
                 for (int q = 0; q < 3; q++) L[q] = (1 - S[j]) * (q == i) + S[j] / 3;
                 for (int ch = 0; ch < nc; ch++) {
-                    const double *o = coef + ((size_t)t * nc + ch) * TC_CT_ORDINATES;
+                    const double *o = coef + ((size_t)t * (size_t)nc + (size_t)ch) * TC_CT_ORDINATES;
                     double va, vb, ga[2], gb[2];
                     tc__ct_eval_sub(o, (i + 1) % 3, L, dl1, dl2, &va, ga);
                     tc__ct_eval_sub(o, (i + 2) % 3, L, dl1, dl2, &vb, gb);

@@ -177,7 +177,7 @@ TEST(drop_equals_the_mesh_without_them) {
         o.method = (tc_method)mi;
         tc_recon *ra = NULL, *rb = NULL;
         CHECK(tc_recon_new(a, &o, &ra, NULL) == TC_OK && tc_recon_new(b, &o, &rb, NULL) == TC_OK);
-        size_t n = (size_t)nt * 2 * (ra ? tc_recon_coef_count(ra) : 0);
+        size_t n = (size_t)nt * 2 * (size_t)(ra ? tc_recon_coef_count(ra) : 0);
         CHECK_MSG(ra && rb && tc_mesh_triangle_count(a) == nt &&
                       !memcmp(tc_recon_coefs(ra), tc_recon_coefs(rb), n * sizeof(double)),
                   "%s differs with the degenerate triangles dropped", tc_method_name(o.method));

@@ -478,7 +478,7 @@ TEST(image_format_table_round_trips) {
                 int rc = tc_img_encode(&im.im, (tc_img_format)f, &out, &len, err, sizeof err);
                 CHECK_MSG((rc == 0) == want && (rc == 0 || (err[0] && !out)), "%s, %d channels%s: %s", t->name, nc,
                           with_alpha ? " + alpha" : "", rc ? err : "encoded");
-                if (rc == 0 && !t->plugin) CHECK(len == (size_t)W * H * nc * 4);
+                if (rc == 0 && !t->plugin) CHECK(len == (size_t)W * H * (size_t)nc * 4);
                 tc_img_decoded d;
                 if (rc == 0 && t->plugin && tc_img_decode(out, len, &d, err, sizeof err) == 0) {
                     int alpha = with_alpha && tc_img_has_alpha((tc_img_format)f, nc);

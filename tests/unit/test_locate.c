@@ -361,7 +361,7 @@ TEST(locate_vertex_fans) {
         double cx = rnd_dyadic(-4, 4, 8), cy = rnd_dyadic(-4, 4, 8);
         int32_t c = tm_vertex(&tm, cx, cy), r0 = tm.m.nv;
         for (int i = 0; i < k; i++) {
-            double len = rnd_int(1, 4) * 0.5; /* ragged outline, still star-shaped */
+            double len = (double)rnd_int(1, 4) * 0.5; /* ragged outline, still star-shaped */
             tm_vertex(&tm, cx + dir[pick[i]][0] * len, cy + dir[pick[i]][1] * len);
         }
         for (int i = 0; i < k; i++) tm_tri_maybe_flipped(&tm, c, r0 + i, r0 + (i + 1) % k, 1);
@@ -625,8 +625,8 @@ static int ulp_cloud(double x, double y, double *pts) {
     for (int dx = -2; dx <= 2; dx++)
         for (int dy = -2; dy <= 2; dy++) {
             double px = x, py = y;
-            for (int k = 0; k < abs(dx); k++) px = nextafter(px, dx * INFINITY);
-            for (int k = 0; k < abs(dy); k++) py = nextafter(py, dy * INFINITY);
+            for (int k = 0; k < abs(dx); k++) px = nextafter(px, (float)dx * INFINITY);
+            for (int k = 0; k < abs(dy); k++) py = nextafter(py, (float)dy * INFINITY);
             pts[2 * n] = px;
             pts[2 * n + 1] = py;
             n++;

@@ -60,7 +60,7 @@ static void wavy(const void *ctx, double x, double y, int ch, double *v, double 
 /* Each coefficient of r equals that of base, bit for bit. */
 static int same_coefs(const tc_recon *r, const tc_recon *base) {
     const tc_mesh *m = tc_recon_mesh(base);
-    size_t n = (size_t)tc_mesh_triangle_count(m) * tc_mesh_channel_count(m) * tc_recon_coef_count(base);
+    size_t n = (size_t)tc_mesh_triangle_count(m) * (size_t)tc_mesh_channel_count(m) * (size_t)tc_recon_coef_count(base);
     return tc_recon_coef_count(r) == tc_recon_coef_count(base) && !memcmp(tc_recon_coefs(r), tc_recon_coefs(base),
                                                                           n * sizeof(double));
 }

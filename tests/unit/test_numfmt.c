@@ -275,7 +275,7 @@ TEST(strbuf_grows_geometrically) {
     int growths = 0;
     size_t cap = 0;
     for (int i = 0; i < 200000; i++) {
-        tc_strbuf_append(&b, "abc", i % 4);                  /* 0..3 bytes */
+        tc_strbuf_append(&b, "abc", (size_t)(i % 4)); /* 0..3 bytes */
         tc_strbuf_putc(&b, (char)('a' + i % 26));
         if (b.cap != cap) growths++, cap = b.cap;
         if (!invariant_holds(&b)) break;

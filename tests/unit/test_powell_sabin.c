@@ -39,7 +39,7 @@ static tc_recon *ps_make_free(const tc_mesh *m, tc_tangents tan, tc_diags *dg) {
 
 static const double *coef_of(const tc_recon *r, int32_t t, int ch) {
     int nc = tc_mesh_channel_count(tc_recon_mesh(r));
-    return tc_recon_coefs(r) + ((size_t)t * nc + ch) * TC_PS_COEFS;
+    return tc_recon_coefs(r) + ((size_t)t * (size_t)nc + (size_t)ch) * TC_PS_COEFS;
 }
 
 static const double *gxy(const tmesh *g, int32_t t, int k) { return g->xy + 2 * g->tri[3 * t + k % 3]; }
@@ -211,7 +211,7 @@ static void corner_residuals(const tc_recon *r, const tmesh *g, double vs, doubl
         const double *p = g->xy + 2 * g->tri[c];
         tc_eval_triangle(r, c / 3, p[0], p[1], val, grad);
         for (int ch = 0; ch < nc; ch++) {
-            const double *w = cg + 2 * ((size_t)c * nc + ch);
+            const double *w = cg + 2 * ((size_t)c * (size_t)nc + (size_t)ch);
             rep->corner = fmax(rep->corner, fabs(val[ch] - tc_mesh_corner_value(m, c / 3, c % 3)[ch]) / vs);
             rep->plane = fmax(rep->plane, hypot(grad[2 * ch] - w[0], grad[2 * ch + 1] - w[1]) / gs);
         }
@@ -587,16 +587,17 @@ static int above_row(const tmesh *g, int32_t t, double y0) {
 static void second_quadratic_above(tmesh *g, double y0) {
     int nc = g->nc;
     g->cg_tri = calloc((size_t)g->nt, sizeof *g->cg_tri);
-    g->cg = calloc((size_t)g->nt * 3 * nc * 2, sizeof *g->cg);
+    g->cg = calloc((size_t)g->nt * 3 * (size_t)nc * 2, sizeof *g->cg);
     for (int32_t t = 0; t < g->nt; t++) {
         if (!above_row(g, t, y0)) continue;
         int32_t i = g->ncv++;
         g->cv_tri[i] = g->cg_tri[i] = t;
         g->ncg++;
         for (int k = 0; k < 3; k++)
-            for (int ch = 0; ch < nc; ch++)
-                quadratic2_f(NULL, gxy(g, t, k)[0], gxy(g, t, k)[1], ch, &g->cv[((size_t)i * 3 + k) * nc + ch],
-                             g->cg + (((size_t)i * 3 + k) * nc + ch) * 2);
+            for (int ch = 0; ch < nc; ch++) {
+                size_t at = ((size_t)i * 3 + (size_t)k) * (size_t)nc + (size_t)ch;
+                quadratic2_f(NULL, gxy(g, t, k)[0], gxy(g, t, k)[1], ch, &g->cv[at], g->cg + at * 2);
+            }
     }
 }
 

@@ -349,7 +349,7 @@ static void compare_method(const tc_mesh *mq, const tc_mesh *mt, const tc_locato
     const char *name = tc_method_name(o.method);
     CHECK_MSG(sq == st, "%s: status %d on the quads, %d on the split", name, sq, st);
     if (rq && rt) {
-        size_t nc = (size_t)tc_mesh_channel_count(mt), n = (size_t)tc_mesh_triangle_count(mt) * nc * tc_recon_coef_count(rt);
+        size_t nc = (size_t)tc_mesh_channel_count(mt), n = (size_t)tc_mesh_triangle_count(mt) * nc * (size_t)tc_recon_coef_count(rt);
         CHECK_MSG(tc_recon_coef_count(rq) == tc_recon_coef_count(rt) && !memcmp(tc_recon_coefs(rq), tc_recon_coefs(rt), n * sizeof(double)),
                   "%s (%s, %s, %s): coefficients differ", name, tc_cross_name(o.cross_boundary),
                   tc_wedges_name(o.wedges), tc_tangents_name(o.tangents));

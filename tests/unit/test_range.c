@@ -15,7 +15,7 @@
  * coordinates (channel-dependent), so nothing smooth ties neighbours together. */
 static double hash01(double x, double y, int salt) {
     uint64_t h = (uint64_t)(int64_t)llround(x * 1e9) * 0x9E3779B97F4A7C15ULL ^
-                 (uint64_t)(int64_t)llround(y * 1e9) * 0xC2B2AE3D27D4EB4FULL ^ (uint64_t)salt * 0x165667B19E3779F9ULL;
+                 (uint64_t)(int64_t)llround(y * 1e9) * 0xC2B2AE3D27D4EB4FULL ^ (uint64_t)(unsigned)salt * 0x165667B19E3779F9ULL;
     h ^= h >> 31, h *= 0xBF58476D1CE4E5B9ULL, h ^= h >> 29;
     return (double)(h >> 11) * 0x1.0p-53;
 }
@@ -54,7 +54,7 @@ static int midpoint_of(const tmesh *g, int32_t t, int32_t a, int32_t b, int ch, 
         const int32_t *e = g->mid_edge + 2 * i;
         int same = (e[0] == a && e[1] == b) || (e[0] == b && e[1] == a);
         if (same && (!g->mid_tri || g->mid_tri[i] < 0 || g->mid_tri[i] == t)) {
-            *z = g->mid_val[(size_t)i * g->nc + ch];
+            *z = g->mid_val[(size_t)i * (size_t)g->nc + (size_t)ch];
             return 1;
         }
     }
@@ -76,7 +76,7 @@ static void around_range(const tc_recon *rec, int32_t t, int ch, double *lo, dou
         int touch = 0;
         for (int a = 0; a < 3; a++)
             for (int b = 0; b < 3; b++) touch |= tri[3 * u + a] == tri[3 * t + b];
-        const double *o = tc_recon_coefs(rec) + ((size_t)u * nc + ch) * ncoef;
+        const double *o = tc_recon_coefs(rec) + ((size_t)u * (size_t)nc + (size_t)ch) * (size_t)ncoef;
         for (int k = 0; touch && k < 3; k++) *lo = fmin(*lo, o[k]), *hi = fmax(*hi, o[k]);
     }
 }
@@ -113,7 +113,8 @@ static void spec_bound(const tc_recon *rec, const evidence *ev, int32_t t, int c
     double phump = 0, pdip = 0;
     for (int i = 0; ev && ev->cg && i < 3; i++) {
         int j = (i + 1) % 3;
-        const double *gi = ev->cg + ((3 * (size_t)t + i) * nc + ch) * 2, *gj = ev->cg + ((3 * (size_t)t + j) * nc + ch) * 2;
+        const double *gi = ev->cg + ((3 * (size_t)t + (size_t)i) * (size_t)nc + (size_t)ch) * 2;
+        const double *gj = ev->cg + ((3 * (size_t)t + (size_t)j) * (size_t)nc + (size_t)ch) * 2;
         double e[2] = {xy[2 * tri[3 * t + j]] - xy[2 * tri[3 * t + i]], xy[2 * tri[3 * t + j] + 1] - xy[2 * tri[3 * t + i] + 1]};
         double di = gi[0] * e[0] + gi[1] * e[1], dj = gj[0] * e[0] + gj[1] * e[1];
         phump = fmax(phump, minmod(di, -dj) / 3), pdip = fmax(pdip, minmod(-di, dj) / 3);
@@ -143,7 +144,7 @@ static double worst_outside(const tc_recon *rec, const evidence *ev) {
             for (int ch = 0; ch < nc; ch++) scale = fmax(scale, fabs(tc_mesh_corner_value(m, t, k)[ch]));
     for (int32_t t = 0; t < tc_mesh_triangle_count(m); t++)
         for (int ch = 0; ch < nc; ch++) {
-            const double *o = coef + ((size_t)t * nc + ch) * ncoef;
+            const double *o = coef + ((size_t)t * (size_t)nc + (size_t)ch) * (size_t)ncoef;
             double lo, hi;
             spec_bound(rec, ev, t, ch, o, &lo, &hi);
             for (int i = 0; i < TC_CT_ORDINATES; i++) worst = fmax(worst, fmax(lo - o[i], o[i] - hi) / scale);

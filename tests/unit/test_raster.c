@@ -39,8 +39,8 @@ static void scene_free(scene *s) {
 /* Renders vp and checks every pixel against tc_locate + tc_eval_points. */
 static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
     int nc = tc_mesh_channel_count(s->m);
-    size_t np = (size_t)vp->width * vp->height;
-    float *img = malloc(np * nc * sizeof *img);
+    size_t np = (size_t)vp->width * (size_t)vp->height;
+    float *img = malloc(np * (size_t)nc * sizeof *img);
     int32_t *own = malloc(np * sizeof *own);
     double bg[TC_MAX_CHANNELS];
     for (int ch = 0; ch < nc; ch++) bg[ch] = -7.5 + ch;
@@ -53,11 +53,11 @@ static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
             int32_t t;
             tc_viewport_pixel_center(vp, i, j, &xy[0], &xy[1]);
             tc_eval_points(s->r, s->L, 1, xy, val, NULL, &t);
-            size_t p = (size_t)j * vp->width + i;
+            size_t p = (size_t)j * (size_t)vp->width + (size_t)i;
             bad_owner += own[p] != t;
             for (int ch = 0; ch < nc; ch++) {
                 float want = t >= 0 ? (float)val[ch] : (float)bg[ch];
-                bad_value += memcmp(&img[p * nc + ch], &want, sizeof want) != 0;
+                bad_value += memcmp(&img[p * (size_t)nc + (size_t)ch], &want, sizeof want) != 0;
             }
         }
     CHECK_MSG(bad_owner == 0, "%d pixels owned differently from tc_locate", bad_owner);
@@ -147,7 +147,7 @@ TEST(ct_span_doubles_equal_point_evaluation) {
             for (int i = 0; i < N; i++) xs[i] = lo + (hi - lo) * (1.2 * trng_uniform(&rng) - 0.1);
             tc__eval_frame f;
             tc__frame(m, t, &f);
-            tc__ct_span(&f, tc_recon_coefs(s.r) + (size_t)t * nc * TC_CT_ORDINATES, nc, xs, y, N, fv, dv);
+            tc__ct_span(&f, tc_recon_coefs(s.r) + (size_t)t * (size_t)nc * TC_CT_ORDINATES, nc, xs, y, N, fv, dv);
             for (int i = 0; i < N; i++) {
                 tc_eval_triangle(s.r, t, xs[i], y, pv, NULL);
                 bad += memcmp(pv, dv + i * nc, (size_t)nc * sizeof *pv) != 0;
@@ -164,7 +164,7 @@ TEST(raster_same_bits_for_any_thread_count) {
     scene_init(&s, 16, 0.25, 3, tc_test_seed() + 21);
     if (!s.r) return;
     tc_viewport vp = {-0.05, 0, 1, 1.02, 211, 197};
-    size_t n = (size_t)vp.width * vp.height * 3;
+    size_t n = (size_t)vp.width * (size_t)vp.height * 3;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     tc_render_options o = {NULL, 1, 0};
     CHECK(tc_render(s.r, s.L, &vp, &o, a, NULL) == TC_OK);
@@ -210,7 +210,7 @@ TEST(raster_overlay_colours_edges) {
     scene_init(&s, 12, 0.25, 3, tc_test_seed() + 23);
     if (!s.r) return;
     tc_viewport vp = {0, 0, 1, 1, 120, 120};
-    size_t n = (size_t)vp.width * vp.height * 3;
+    size_t n = (size_t)vp.width * (size_t)vp.height * 3;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     CHECK(tc_render(s.r, s.L, &vp, NULL, a, NULL) == TC_OK);
     memcpy(b, a, n * sizeof *a);
@@ -219,7 +219,7 @@ TEST(raster_overlay_colours_edges) {
      * y = 1/3 is j = 80 (centre 1 - 80.5/120 = 0.329...), painted yellow. */
     int yellow = 0, changed = 0;
     for (int32_t i = 0; i < vp.width; i++) {
-        const float *p = b + ((size_t)80 * vp.width + i) * 3;
+        const float *p = b + ((size_t)80 * (size_t)vp.width + (size_t)i) * 3;
         yellow += p[0] == 2.0f && p[1] == 1.6f && p[2] == 0.0f;
     }
     for (size_t k = 0; k < n; k++) changed += a[k] != b[k];
@@ -248,12 +248,12 @@ static int overlay_row_kind(tc_method method, int kind, int jump) {
     tc_recon *r = NULL;
     int result = -2;
     tc_viewport vp = {0, 0, 1, 1, 120, 120};
-    float *img = calloc((size_t)vp.width * vp.height * 3, sizeof *img);
+    float *img = calloc((size_t)vp.width * (size_t)vp.height * 3, sizeof *img);
     if (m && img && tc_recon_new(m, &o, &r, NULL) == TC_OK) {
         tc_render_overlay(r, &vp, 1.0, img);
         int count[3] = {0, 0, 0}; /* C-1, C0, C1 */
         for (int32_t i = 0; i < vp.width; i++) {
-            const float *p = img + ((size_t)80 * vp.width + i) * 3;
+            const float *p = img + ((size_t)80 * (size_t)vp.width + (size_t)i) * 3;
             count[0] += p[0] == 1.0f && p[1] == 0.1f && p[2] == 0.1f;
             count[1] += p[0] == 1.0f && p[1] == 0.8f && p[2] == 0.0f;
             count[2] += p[0] == 0.35f && p[1] == 0.35f && p[2] == 0.35f;

@@ -1,5 +1,6 @@
 /* test_request.c — unit tests of the JSON request reader (src/io/request*.c, reader.c).
- * Every rule of DESIGN.md §3 as read by tc_request_parse: parsed arrays, status, path, message. */
+ * Every rule of the request format (README.md, api/openapi.yaml) as read by tc_request_parse:
+ * parsed arrays, status, path, message. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -695,7 +696,7 @@ TEST(request_many_errors_are_capped) {
 
 /* A g x g grid of vertices as a request (2 triangles per cell), in a new string. */
 static char *grid_request(int g, size_t *len) {
-    size_t cap = (size_t)g * g * 120 + 256, n = 0;
+    size_t cap = (size_t)g * (size_t)g * 120 + 256, n = 0;
     char *s = malloc(cap);
     if (!s) return NULL;
     n += (size_t)snprintf(s + n, cap - n, "{\"vertices\": [");

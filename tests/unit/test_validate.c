@@ -115,7 +115,7 @@ static void recon_passes(const char *file, int line_no, const tc_mesh_desc *d, t
             tc_test_fail(file, line_no, "recon status %d, expected TC_OK (first finding: %s: %s)", st,
                          dg->count ? dg->items[0].path : "-", dg->count ? dg->items[0].message : "-");
         } else {
-            size_t n = (size_t)tc_mesh_triangle_count(m) * tc_mesh_channel_count(m) * tc_recon_coef_count(r);
+            size_t n = (size_t)tc_mesh_triangle_count(m) * (size_t)tc_mesh_channel_count(m) * (size_t)tc_recon_coef_count(r);
             for (size_t i = 0; i < n; i++)
                 if (!isfinite(tc_recon_coefs(r)[i])) {
                     tc_test_fail(file, line_no, "coefficient %zu is %g", i, tc_recon_coefs(r)[i]);
