@@ -42,28 +42,12 @@ static void vreport(tc__reader *rd, tc_severity sev, const tc__jpath *p, const c
     tc_diags_add(rd->diags, sev, path, "%s", msg);
 }
 
-/* Wrong JSON type or shape, missing field, bad syntax: HTTP 400. */
-void tc__rd_shape_error(tc__reader *rd, const tc__jpath *p, const char *fmt, ...) {
+void tc__rd_report(tc__reader *rd, tc__rd_kind kind, const tc__jpath *p, const char *fmt, ...) {
     va_list ap;
-    rd->malformed++;
+    if (kind == TC__RD_SHAPE) rd->malformed++;
+    if (kind == TC__RD_VALUE) rd->invalid++;
     va_start(ap, fmt);
-    vreport(rd, TC_SEV_ERROR, p, fmt, ap);
-    va_end(ap);
-}
-
-/* Well-formed but unacceptable value (count, channels, name, infinity): HTTP 422. */
-void tc__rd_value_error(tc__reader *rd, const tc__jpath *p, const char *fmt, ...) {
-    va_list ap;
-    rd->invalid++;
-    va_start(ap, fmt);
-    vreport(rd, TC_SEV_ERROR, p, fmt, ap);
-    va_end(ap);
-}
-
-void tc__rd_warning(tc__reader *rd, const tc__jpath *p, const char *fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    vreport(rd, TC_SEV_WARNING, p, fmt, ap);
+    vreport(rd, kind == TC__RD_WARNING ? TC_SEV_WARNING : TC_SEV_ERROR, p, fmt, ap);
     va_end(ap);
 }
 
@@ -216,6 +200,15 @@ void tc__rd_per_vertex(tc__reader *rd, const tc__jpath *p, size_t n) {
 
 /* ---- channel data --------------------------------------------------------------- */
 
+/* An array of per-channel entries whose length is not the channel count (as
+ * values[0] fixed it): says so at p. */
+static int channel_count_differs(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
+    size_t k = tc__json_count(v), C = (size_t)rd->nchan;
+    if (k == C) return 0;
+    tc__rd_value_error(rd, p, "%zu channel%s, expected %zu (as values[0])", k, k == 1 ? "" : "s", C);
+    return 1;
+}
+
 /* One sample of C channels: a plain number (C == 1) or [z1..zC], into out[C]. */
 int tc__rd_channels(tc__reader *rd, const cJSON *v, const tc__jpath *p, double *out) {
     int C = rd->nchan;
@@ -231,11 +224,7 @@ int tc__rd_channels(tc__reader *rd, const cJSON *v, const tc__jpath *p, double *
                            tc__json_kind(v));
         return -1;
     }
-    size_t k = tc__json_count(v);
-    if (k != (size_t)C) {
-        tc__rd_value_error(rd, p, "%zu channel%s, expected %d (as values[0])", k, k == 1 ? "" : "s", C);
-        return -1;
-    }
+    if (channel_count_differs(rd, v, p)) return -1;
     int bad = 0;
     size_t j = 0;
     for (const cJSON *e = v->child; e; e = e->next, j++) {
@@ -262,11 +251,7 @@ int tc__rd_channel_vectors(tc__reader *rd, const cJSON *v, const tc__jpath *p, i
         }
         return tc__rd_numbers(rd, v, p, dim, out, what);
     }
-    size_t k = tc__json_count(v);
-    if (k != (size_t)C) {
-        tc__rd_value_error(rd, p, "%zu channel%s, expected %d (as values[0])", k, k == 1 ? "" : "s", C);
-        return -1;
-    }
+    if (channel_count_differs(rd, v, p)) return -1;
     int bad = 0;
     size_t j = 0;
     for (const cJSON *e = v->child; e; e = e->next, j++) {

@@ -45,11 +45,18 @@ typedef struct {
     int quads;           /* the mesh is given as "quads": per-corner entries name quads */
 } tc__reader;
 
-/* Wrong JSON type or shape, missing field, bad syntax: HTTP 400. */
-PRINTF_LIKE(3, 4) void tc__rd_shape_error(tc__reader *rd, const tc__jpath *p, const char *fmt, ...);
-/* Well-formed but unacceptable value (count, channels, name, infinity): HTTP 422. */
-PRINTF_LIKE(3, 4) void tc__rd_value_error(tc__reader *rd, const tc__jpath *p, const char *fmt, ...);
-PRINTF_LIKE(3, 4) void tc__rd_warning(tc__reader *rd, const tc__jpath *p, const char *fmt, ...);
+/* What a finding is, which decides the answer's status. */
+typedef enum {
+    TC__RD_SHAPE,  /* wrong JSON type or shape, missing field, bad syntax: HTTP 400 */
+    TC__RD_VALUE,  /* well-formed but unacceptable value (count, channels, name, infinity): HTTP 422 */
+    TC__RD_WARNING /* accepted, with a word about it */
+} tc__rd_kind;
+
+/* Records a finding at path p (counted in rd->malformed / rd->invalid for the errors). */
+PRINTF_LIKE(4, 5) void tc__rd_report(tc__reader *rd, tc__rd_kind kind, const tc__jpath *p, const char *fmt, ...);
+#define tc__rd_shape_error(rd, p, ...) tc__rd_report(rd, TC__RD_SHAPE, p, __VA_ARGS__)
+#define tc__rd_value_error(rd, p, ...) tc__rd_report(rd, TC__RD_VALUE, p, __VA_ARGS__)
+#define tc__rd_warning(rd, p, ...) tc__rd_report(rd, TC__RD_WARNING, p, __VA_ARGS__)
 
 /* n zeroed elements owned by the request; NULL for n == 0 (absent arrays are NULL
  * in tc_mesh_desc). On failure sets rd->nomem and returns NULL. */
