@@ -87,26 +87,37 @@ static int value_begins(scanner *sc) {
     return l->limit >= 0 && l->count > sc->lim[l->limit].max;
 }
 
-/* Counts the rest of the array at the current depth (no limit applies any more). */
-static int64_t finish_count(scanner *sc) {
-    level *l = top(sc);
-    int depth = sc->depth;
-    while (sc->i < sc->len && sc->depth >= depth) {
+/* Skips the container opening at byte i, nested ones and strings included: nothing
+ * inside an array's element is named by keys from the root, so nothing there is limited. */
+static void skip_container(scanner *sc) {
+    int depth = 0;
+    while (sc->i < sc->len) {
         char c = sc->s[sc->i];
         if (c == '"') {
-            if (sc->depth == depth && l->want) l->want = 0, l->count++;
             skip_string(sc, NULL, 0);
             continue;
         }
         sc->i++;
-        if (c == ' ' || c == '\t' || c == '\n' || c == '\r') continue;
-        if (c == '[' || c == '{') {
-            if (sc->depth == depth && l->want) l->want = 0, l->count++;
-            sc->depth++;
-        } else if (c == ']' || c == '}') sc->depth--;
-        else if (c == ',') {
-            if (sc->depth == depth) l->want = 1;
-        } else if (sc->depth == depth && l->want) l->want = 0, l->count++;
+        if (c == '[' || c == '{') depth++;
+        else if ((c == ']' || c == '}') && --depth == 0) return;
+    }
+}
+
+/* Counts the rest of the array at the current depth (no limit applies any more). */
+static int64_t finish_count(scanner *sc) {
+    level *l = top(sc);
+    while (sc->i < sc->len) {
+        char c = sc->s[sc->i];
+        if (c == ']' || c == '}') break;
+        if (c == ',' || c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+            l->want |= c == ',';
+            sc->i++;
+            continue;
+        }
+        if (l->want) l->want = 0, l->count++;
+        if (c == '"') skip_string(sc, NULL, 0);
+        else if (c == '[' || c == '{') skip_container(sc);
+        else sc->i++;
     }
     return l->count;
 }
@@ -127,12 +138,13 @@ static int step(scanner *sc) {
     case ' ': case '\t': case '\n': case '\r': case ':': return 0;
     case ',': if (l) l->want = 1; return 0;
     case ']': case '}': if (sc->depth > 0) sc->depth--; return 0;
-    case '[': case '{': {
-        int over = value_begins(sc);
-        if (!over) open_container(sc, c);
-        else sc->i--; /* leave the byte: finish_count sees it */
-        return over;
-    }
+    case '[': case '{':
+        sc->i--; /* leave the byte: finish_count or skip_container reads it */
+        if (value_begins(sc)) return 1;
+        if (l && l->array == '[') return skip_container(sc), 0; /* an element: [x,y], {...} */
+        sc->i++;
+        open_container(sc, c);
+        return 0;
     default: {
         int over = value_begins(sc);
         if (over) sc->i--;
