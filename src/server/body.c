@@ -12,7 +12,7 @@ enum { FIRST_CHUNK = 64 * 1024 };
 
 void tc_body_init(tc_body *b, size_t limit) {
     b->buf = NULL;
-    b->len = b->cap = 0;
+    b->len = b->cap = b->expect = 0;
     b->limit = limit;
 }
 
@@ -21,25 +21,25 @@ void tc_body_free(tc_body *b) {
     tc_body_init(b, b->limit);
 }
 
-/* Capacity for `need` bytes plus the NUL, growing geometrically up to limit + 1. */
+/* Capacity for `need` bytes plus the NUL, growing geometrically up to the
+ * declared length (when it covers need) or the limit, + 1. */
 static int grow(tc_body *b, size_t need) {
     if (need < b->cap) return 0;
     size_t cap = b->cap ? b->cap : FIRST_CHUNK;
     while (cap <= need) cap = cap > SIZE_MAX / 2 ? SIZE_MAX : cap * 2;
-    if (cap > b->limit + 1) cap = b->limit + 1;
+    size_t most = b->expect >= need ? b->expect : b->limit;
+    if (cap > most + 1) cap = most + 1;
     char *p = realloc(b->buf, cap);
     if (!p) return -1;
     b->buf = p, b->cap = cap;
     return 0;
 }
 
+/* Nothing is allocated before bytes arrive: a client that declares 64 MiB and
+ * sends nothing must not cost 64 MiB (300 such connections reserved 19.8 GB of
+ * virtual memory). The declared length only caps the geometric growth. */
 int tc_body_reserve(tc_body *b, size_t expect) {
-    if (expect > b->limit) return 0; /* refused elsewhere; don't allocate */
-    if (expect < b->cap) return 0;
-    char *p = realloc(b->buf, expect + 1);
-    if (!p) return -1;
-    b->buf = p, b->cap = expect + 1;
-    b->buf[b->len] = '\0';
+    if (expect <= b->limit) b->expect = expect; /* larger: refused elsewhere */
     return 0;
 }
 

@@ -9,11 +9,13 @@ typedef struct {
     char *buf;     /* NUL-terminated; NULL until the first byte */
     size_t len, cap;
     size_t limit;  /* most bytes accepted */
+    size_t expect; /* the declared Content-Length (0: unknown): growth stops there */
 } tc_body;
 
 void tc_body_init(tc_body *b, size_t limit);
 void tc_body_free(tc_body *b);
-/* Room for `expect` bytes up front (a known Content-Length). 0, or -1 if out of memory. */
+/* Notes a known Content-Length: the buffer grows as bytes arrive, to at most
+ * that (plus the NUL). 0 (kept for callers that handled -1: out of memory). */
 int tc_body_reserve(tc_body *b, size_t expect);
 /* 0; 1 if the body would exceed the limit (nothing appended); -1 if out of memory. */
 int tc_body_append(tc_body *b, const char *data, size_t n);

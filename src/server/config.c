@@ -41,6 +41,14 @@ static const option options[] = {
      "work allowed per request, then 503 (0: none)", K_SECONDS, F(request_timeout), 0, 86400},
     {"--connection-timeout", "TOCHER_CONNECTION_TIMEOUT", "SECONDS",
      "idle time before a connection is closed (0: never)", K_INT, F(connection_timeout), 0, 86400},
+    {"--max-connections-per-ip", "TOCHER_MAX_CONNECTIONS_PER_IP", "N",
+     "open connections from one address; more are closed at once (0: no limit)", K_INT,
+     F(max_connections_per_ip), 0, 1e6},
+    {"--header-timeout", "TOCHER_HEADER_TIMEOUT", "SECONDS",
+     "time from a connection's start to its request headers' end, bytes or not (0: none)", K_SECONDS,
+     F(header_timeout), 0, 86400},
+    {"--body-timeout", "TOCHER_BODY_TIMEOUT", "SECONDS", "time from the headers to the body's end (0: none)",
+     K_SECONDS, F(body_timeout), 0, 86400},
     {"--shutdown-grace", "TOCHER_SHUTDOWN_GRACE", "SECONDS",
      "on SIGTERM/SIGINT, time left to requests in flight", K_SECONDS, F(shutdown_grace), 0, 86400},
 };
@@ -66,6 +74,9 @@ static void defaults(tc_srv_config *c) {
     c->max_pixels = 4096LL * 4096;
     c->max_connections = 1024;
     c->connection_timeout = 10;
+    c->max_connections_per_ip = 128;
+    c->header_timeout = 10;
+    c->body_timeout = 60;
     c->request_timeout = 30;
     c->shutdown_grace = 30;
 }

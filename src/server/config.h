@@ -12,6 +12,9 @@ typedef struct {
     long long max_vertices, max_triangles, max_points, max_pixels; /* 0: no limit */
     long long max_connections;     /* open connections at once */
     long long connection_timeout;  /* seconds a connection may stay idle; 0: forever */
+    long long max_connections_per_ip; /* open connections from one address; 0: no limit */
+    double header_timeout;         /* seconds from a connection's start to its request's headers; 0: none */
+    double body_timeout;           /* seconds from the headers to the end of the body; 0: none */
     double request_timeout;        /* seconds of work per request; 0: no deadline */
     double shutdown_grace;         /* seconds to let requests finish on SIGTERM */
 } tc_srv_config;

@@ -1,5 +1,5 @@
 /* http.c — one request's life in libmicrohttpd: the first call checks the
- * headers (and refuses 404/405/415/413 before any body byte is read), data calls
+ * headers (and refuses bad framing, 404/405/415/413 before any body byte is read), data calls
  * collect the body under --max-body, the last call runs the route and queues
  * the reply; the completion callback logs it and counts it. */
 #include <stdarg.h>
@@ -10,6 +10,8 @@
 
 #include "io/api.h"
 #include "server/body.h"
+#include "server/conns.h"
+#include "server/framing.h"
 #include "server/http.h"
 #include "server/log.h"
 #include "server/metrics.h"
@@ -30,6 +32,7 @@ typedef struct {
     int pending;     /* a problem is decided; answer it at the first chance */
     tc_problem problem;
     char detail[256];
+    int close;  /* framing that cannot be trusted: close the connection after the answer */
     int queued; /* a response is queued: what follows is for the log and metrics */
     int status;
     size_t bytes;
@@ -153,7 +156,7 @@ static void add_headers(const tc_http_state *srv, const exchange *ex, const tc_r
         snprintf(retry, sizeof retry, "%d", r->retry_after);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, retry);
     }
-    if (atomic_load(&srv->draining)) MHD_add_response_header(resp, MHD_HTTP_HEADER_CONNECTION, "close");
+    if (atomic_load(&srv->draining) || ex->close) MHD_add_response_header(resp, MHD_HTTP_HEADER_CONNECTION, "close");
 }
 
 /* Queues r (and frees it). Out of memory for the body degrades to a fixed 500. */
@@ -195,11 +198,17 @@ static enum MHD_Result answer_pending(const tc_http_state *srv, struct MHD_Conne
 }
 
 static enum MHD_Result first_call(tc_http_state *srv, struct MHD_Connection *c, const char *url, const char *method,
-                                  void **req_cls) {
+                                  const char *version, void **req_cls) {
     exchange *ex = exchange_new(srv, url, method);
     if (!ex) return MHD_NO; /* no memory even for the bookkeeping: drop the connection */
     *req_cls = ex;
     tc_metrics_begin();
+    tc_conns_phase(c, TC_CONN_BODY);
+    char why[sizeof ex->detail];
+    if (tc_framing_error(c, version, why, sizeof why)) {
+        refuse(ex, TC_PROBLEM_MALFORMED, "%s", why);
+        return ex->close = 1, answer_pending(srv, c, ex);
+    }
     check_headers(srv, c, ex);
     if (ex->pending && has_body(c)) return answer_pending(srv, c, ex);
     return MHD_YES;
@@ -282,10 +291,10 @@ static enum MHD_Result last_call(const tc_http_state *srv, struct MHD_Connection
 enum MHD_Result tc_http_access(void *cls, struct MHD_Connection *c, const char *url, const char *method,
                                const char *version, const char *upload_data, size_t *upload_data_size,
                                void **req_cls) {
-    (void)version;
     exchange *ex = *req_cls;
-    if (!ex) return first_call(cls, c, url, method, req_cls);
+    if (!ex) return first_call(cls, c, url, method, version, req_cls);
     if (*upload_data_size) return take_data(cls, c, ex, upload_data, upload_data_size);
+    tc_conns_phase(c, TC_CONN_WORK);
     return last_call(cls, c, ex);
 }
 
@@ -301,12 +310,13 @@ static const char *ending(enum MHD_RequestTerminationCode toe) {
 }
 
 void tc_http_completed(void *cls, struct MHD_Connection *c, void **req_cls, enum MHD_RequestTerminationCode toe) {
-    (void)cls, (void)c;
+    (void)cls;
     exchange *ex = *req_cls;
     if (!ex) return;
     *req_cls = NULL;
     double ms = tc_now_ms() - ex->t0;
     tc_log_request(ex->method, ex->path, ex->status, ex->bytes, ms, ending(toe));
     tc_metrics_end(ex->route_index, ex->queued);
+    tc_conns_phase(c, TC_CONN_IDLE);
     exchange_free(ex);
 }

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "server/conns.h"
 #include "server/http.h"
 #include "server/log.h"
 #include "server/server.h"
@@ -17,6 +18,7 @@
 struct tc_server {
     struct MHD_Daemon *d;
     tc_http_state state;
+    tc_conns *conns; /* header and body deadlines */
     MHD_socket quiesced; /* the listen socket handed back by quiesce; closed after stop */
     char address[INET6_ADDRSTRLEN + 16];
 };
@@ -74,6 +76,10 @@ static struct MHD_Daemon *start(tc_server *s, const tc_srv_config *cfg, struct s
                             MHD_OPTION_CONNECTION_LIMIT, (unsigned)cfg->max_connections,
                             MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)cfg->connection_timeout,
                             MHD_OPTION_NOTIFY_COMPLETED, tc_http_completed, &s->state,
+                            /* slow clients: one address holds at most so many connections, and
+                             * tc_conns closes those whose headers or body are late */
+                            MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)cfg->max_connections_per_ip,
+                            MHD_OPTION_NOTIFY_CONNECTION, tc_conns_notify, s->conns,
                             MHD_OPTION_END);
 }
 
@@ -85,8 +91,11 @@ tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
     s->state.cfg = cfg;
     atomic_init(&s->state.draining, 0);
     s->quiesced = MHD_INVALID_SOCKET;
+    s->conns = tc_conns_start(cfg);
+    if (!s->conns) return free(s), snprintf(err, errlen, "cannot start the deadline thread"), NULL;
     s->d = start(s, cfg, &ss);
     if (!s->d) {
+        tc_conns_stop(s->conns);
         snprintf(err, errlen, "cannot listen on %s:%lld (in use, or not an address of this host?)", cfg->host,
                  cfg->port);
         free(s);
@@ -110,6 +119,7 @@ void tc_server_quiesce(tc_server *s) {
 void tc_server_stop(tc_server *s) {
     if (!s) return;
     MHD_stop_daemon(s->d);
+    tc_conns_stop(s->conns); /* after the daemon: no connection is left to notify */
     if (s->quiesced != MHD_INVALID_SOCKET) close(s->quiesced); /* only after stop: see MHD_quiesce_daemon */
     free(s);
 }
