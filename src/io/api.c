@@ -39,9 +39,11 @@ static int late(const tc_api_limits *lim, tc_api_result *res, const char *doing)
     return 1;
 }
 
-/* Points evaluated (or compared) between two deadline checks: large enough
- * that a request of fewer points runs as one call, unchanged. */
-enum { POINTS_CHUNK = 65536 };
+/* Points evaluated between two deadline checks (each point is independent:
+ * chunks change nothing but the checks), and points compared between two
+ * checks (pooling chunks rounds differently: a request of fewer points is
+ * one tc_compare, as before). */
+enum { EVAL_CHUNK = 8192, COMPARE_CHUNK = 65536 };
 
 static int status_of_request(int rs) {
     return rs == TC_REQ_MALFORMED ? 400 : rs == TC_REQ_INVALID ? 422 : 500;
@@ -139,12 +141,12 @@ int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_
 static int eval_chunked(const job *j, const tc_locator *L, const tc_request *pts, int nc, double *val,
                         double *grad, int32_t *tri, const tc_api_limits *lim, tc_api_result *res) {
     size_t n = pts->npoints, ncs = (size_t)nc;
-    for (size_t i = 0; i < n; i += POINTS_CHUNK) {
+    for (size_t i = 0; i < n; i += EVAL_CHUNK) {
         if (late(lim, res, "evaluating the points")) return res->status;
-        size_t k = n - i < POINTS_CHUNK ? n - i : POINTS_CHUNK;
+        size_t k = n - i < EVAL_CHUNK ? n - i : EVAL_CHUNK;
         tc_eval_points(j->recon, L, k, pts->points + 2 * i, val + i * ncs, grad ? grad + 2 * i * ncs : NULL, tri + i);
     }
-    return 0;
+    return late(lim, res, "evaluating the points") ? res->status : 0; /* before the encoding */
 }
 
 /* Locates and evaluates the points; writes the response members. TC_OK,
@@ -390,19 +392,19 @@ static double max_abs_of(const double *v, size_t n) {
 }
 
 /* tc_compare with the deadline checked between chunks of points (one call,
- * and the same numbers, for fewer than POINTS_CHUNK): TC_OK or TC_ETIMEOUT. */
+ * and the same numbers, for fewer than COMPARE_CHUNK): TC_OK or TC_ETIMEOUT. */
 static int compare_chunked(const tc_recon *r, const tc_locator *L, const tc_request *req, int nc,
                            const tc_api_limits *lim, tc_api_result *res, tc_error_stats *e) {
     size_t n = req->nreference, ncs = (size_t)nc;
-    if (n <= POINTS_CHUNK)
+    if (n <= COMPARE_CHUNK)
         return tc_compare(r, L, n, req->reference_points, req->reference_values, req->reference_scale, e);
     double scale = req->reference_scale > 0 ? req->reference_scale : max_abs_of(req->reference_values, n * ncs);
     pooled p = {0, 0, 0};
     *e = (tc_error_stats){0};
     e->scale = scale;
-    for (size_t i = 0; i < n; i += POINTS_CHUNK) {
+    for (size_t i = 0; i < n; i += COMPARE_CHUNK) {
         if (late(lim, res, "comparing with the reference")) return TC_ETIMEOUT;
-        size_t k = n - i < POINTS_CHUNK ? n - i : POINTS_CHUNK;
+        size_t k = n - i < COMPARE_CHUNK ? n - i : COMPARE_CHUNK;
         tc_error_stats c;
         tc_compare(r, L, k, req->reference_points + 2 * i, req->reference_values + i * ncs, scale, &c);
         pool_add(&p, e, &c, nc);

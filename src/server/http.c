@@ -272,7 +272,7 @@ static void run(const tc_http_state *srv, exchange *ex, tc_reply *r) {
     /* Not every phase of the API watches the deadline; the answer keeps the promise. */
     if (r->status < 500 && past_deadline(srv->cfg, ex)) {
         char detail[128];
-        snprintf(detail, sizeof detail, "the request took %.1f s; this server allows %g s",
+        snprintf(detail, sizeof detail, "the request ran past its time limit: it took %.1f s; this server allows %g s",
                  (tc_now_ms() - ex->t0) * 1e-3, srv->cfg->request_timeout);
         tc_reply_problem(r, TC_PROBLEM_TIMEOUT, detail);
     }

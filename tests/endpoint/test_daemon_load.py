@@ -24,6 +24,6 @@ SAN = loadkit.is_san(BUILD)
 # Renders of 2 s and more: before the worker pool the small requests waited that long.
 loadkit.hol(BUILD, "hol", renders=2, conns=6, render_s=2.0, limit_s=1.0)
 loadkit.queue_full(BUILD, "queue", render_s=2.0)
-loadkit.deadlines(BUILD, "deadline", 60 if SAN else 120)
+loadkit.deadlines(BUILD, "deadline", 60 if SAN else 120, 5000 if SAN else 20000)
 loadkit.sigterm(BUILD, "sigterm", rounds=2, clients=8, render_s=1.0)
 finish()
