@@ -283,10 +283,13 @@ static void run(const tc_http_state *srv, exchange *ex, tc_reply *r) {
 static void job_run(void *arg, int cancelled) {
     exchange *ex = arg;
     if (cancelled) {
+        tc_metrics_workers(-1, 0);
         tc_reply_problem(&ex->reply, TC_PROBLEM_BUSY, "the server shut down before this request could start; retry");
         ex->reply.retry_after = 1;
     } else {
+        tc_metrics_workers(-1, 1);
         run(ex->srv, ex, &ex->reply);
+        tc_metrics_workers(0, -1);
     }
     ex->job = JOB_DONE;
     MHD_resume_connection(ex->conn);
@@ -303,7 +306,9 @@ static enum MHD_Result submit_job(const tc_http_state *srv, struct MHD_Connectio
     ex->job = JOB_QUEUED;
     MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, 0u);
     MHD_suspend_connection(c); /* before submit: a worker may resume it at once */
+    tc_metrics_workers(1, 0);
     if (tc_pool_submit(srv->pool, job_run, ex) == 0) return MHD_YES;
+    tc_metrics_workers(-1, 0);
     /* Refused: answered like a finished job, by the call the resume brings. */
     char detail[160];
     snprintf(detail, sizeof detail, "all %lld workers are busy and %lld requests wait for one; retry later",

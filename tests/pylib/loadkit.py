@@ -233,6 +233,13 @@ def queue_full(build, name, render_s):
     ok = st == 503 and h.get("Retry-After") and b"/problems/" in body_c and t < 0.5 * render_s
     check("%s: a request beyond the queue gets 503 + Retry-After at once (%.3f s)" % (name, t), bool(ok),
           "%r %r %r" % (st, dict(h) if h else {}, body_c[:200]))
+    c = http.client.HTTPConnection("127.0.0.1", d.port, timeout=30)
+    c.request("GET", "/metrics")
+    text = c.getresponse().read().decode()
+    c.close()
+    gauges = re.findall(r"^(tocher_workers_busy|tocher_worker_queue_length) (\d+)$", text, re.M)
+    check("%s: /metrics meanwhile: one worker busy, one request waiting" % name,
+          sorted(gauges) == [("tocher_worker_queue_length", "1"), ("tocher_workers_busy", "1")], repr(gauges))
     a.join()
     b.join()
     check("%s: the running and the queued render both answer 200" % name,
