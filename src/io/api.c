@@ -34,6 +34,21 @@ static void lap(tc_api_result *res, int p, double *t0) {
 /* parse_within's answer for a body whose arrays are over a limit. */
 enum { REQ_OVER_LIMIT = -1 };
 
+/* Past the request's deadline (lim->deadline_ms): a 503 whose problem says in
+ * which phase. One clock read, so it may run between phases and every chunk. */
+static int late(const tc_api_limits *lim, tc_api_result *res, const char *doing) {
+    if (!lim || lim->deadline_ms <= 0 || tc_now_ms() <= lim->deadline_ms) return 0;
+    tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while %s", doing);
+    res->status = 503;
+    return 1;
+}
+
+/* Points evaluated between two deadline checks (each point is independent:
+ * chunks change nothing but the checks), and points compared between two
+ * checks (pooling chunks rounds differently: a request of fewer points is
+ * one tc_compare, as before). */
+enum { EVAL_CHUNK = 8192, COMPARE_CHUNK = 65536 };
+
 static int status_of_request(int rs) {
     return rs == TC_REQ_MALFORMED ? 400 : rs == TC_REQ_INVALID ? 422 : rs == REQ_OVER_LIMIT ? 413 : 500;
 }
@@ -101,13 +116,15 @@ static int job_build(job *j, const char *body, size_t len, unsigned expect, cons
     int rs = parse_within(body, len, expect, lim, &j->req, res);
     lap(res, TC_PHASE_PARSE, t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
-    if (!within_limits(j->req, lim, res)) return res->status;
+    if (!within_limits(j->req, lim, res) || late(lim, res, "parsing")) return res->status;
     int rc = tc_mesh_new(&j->req->desc, &j->mesh, &res->diags);
     lap(res, TC_PHASE_VALIDATE, t0);
     if (rc != TC_OK) return res->status = status_of_core(rc);
+    if (late(lim, res, "checking the mesh")) return res->status;
     rc = tc_recon_new(j->mesh, &j->req->opt, &j->recon, &res->diags);
     lap(res, TC_PHASE_BUILD, t0);
     if (rc != TC_OK) return res->status = status_of_core(rc);
+    if (late(lim, res, "building the reconstruction")) return res->status;
     res->triangles = triangle_count(j->req);
     return res->status = 200;
 }
@@ -142,8 +159,23 @@ int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_
     return rc;
 }
 
-/* Locates and evaluates the points; writes the response members. */
-static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b) {
+/* Evaluates the points in chunks, checking the deadline between them: 0, or
+ * 503 (res says why) if it passed. */
+static int eval_chunked(const job *j, const tc_locator *L, const tc_request *pts, int nc, double *val,
+                        double *grad, int32_t *tri, const tc_api_limits *lim, tc_api_result *res) {
+    size_t n = pts->npoints, ncs = (size_t)nc;
+    for (size_t i = 0; i < n; i += EVAL_CHUNK) {
+        if (late(lim, res, "evaluating the points")) return res->status;
+        size_t k = n - i < EVAL_CHUNK ? n - i : EVAL_CHUNK;
+        tc_eval_points(j->recon, L, k, pts->points + 2 * i, val + i * ncs, grad ? grad + 2 * i * ncs : NULL, tri + i);
+    }
+    return late(lim, res, "evaluating the points") ? res->status : 0; /* before the encoding */
+}
+
+/* Locates and evaluates the points; writes the response members. TC_OK,
+ * TC_ENOMEM, or TC_ETIMEOUT (res holds the 503). */
+static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b, const tc_api_limits *lim,
+                    tc_api_result *res) {
     int nc = tc_mesh_channel_count(j->mesh);
     size_t n = pts->npoints;
     tc_locator *L = NULL;
@@ -151,8 +183,8 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b) {
     double *grad = pts->with_gradients ? malloc((n ? n : 1) * 2 * (size_t)nc * sizeof *grad) : NULL;
     int32_t *tri = malloc((n ? n : 1) * sizeof *tri);
     int rc = !val || !tri || (pts->with_gradients && !grad) ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
+    if (rc == TC_OK && eval_chunked(j, L, pts, nc, val, grad, tri, lim, res)) rc = TC_ETIMEOUT;
     if (rc == TC_OK) {
-        tc_eval_points(j->recon, L, n, pts->points, val, grad, tri);
         tc_strbuf_putc(b, '{');
         tc_json_points(b, nc, n, val, grad, tri, j->req->values_plain);
     }
@@ -177,7 +209,8 @@ int tc_api_evaluate(const char *body, size_t len, const char *points, size_t ple
     tc_strbuf b;
     tc_strbuf_init(&b);
     if (res->status == 200) {
-        if (evaluate(&j, pts ? pts : j.req, &b) != TC_OK) res->status = 500;
+        int rc = evaluate(&j, pts ? pts : j.req, &b, lim, res);
+        if (rc != TC_OK) res->status = rc == TC_ETIMEOUT ? 503 : 500;
         lap(res, TC_PHASE_EVALUATE, &t0);
     }
     tc_request_free(pts);
@@ -361,9 +394,52 @@ static void compare_member_number(tc_strbuf *b, const char *name, double x) {
     tc_strbuf_double(b, x);
 }
 
-/* One method: build it, compare it at the reference points, write its entry. */
-static void compare_one(const job *j, const tc_locator *L, const tc_options *opt, tc_strbuf *b, tc_api_result *res,
-                        double *t0) {
+/* Sums of a comparison made in chunks, pooled as one tc_compare would pool them. */
+typedef struct {
+    double sum2, sum_abs, count;
+} pooled;
+
+static void pool_add(pooled *p, tc_error_stats *all, const tc_error_stats *e, int nc) {
+    double count = (double)e->n * nc;
+    p->sum2 += e->rms * e->rms * count;
+    p->sum_abs += e->mean_rel * e->scale * count;
+    p->count += count;
+    all->max_abs = fmax(all->max_abs, e->max_abs);
+    all->n += e->n, all->outside += e->outside;
+}
+
+static double max_abs_of(const double *v, size_t n) {
+    double m = 0;
+    for (size_t i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
+    return m;
+}
+
+/* tc_compare with the deadline checked between chunks of points (one call,
+ * and the same numbers, for fewer than COMPARE_CHUNK): TC_OK or TC_ETIMEOUT. */
+static int compare_chunked(const tc_recon *r, const tc_locator *L, const tc_request *req, int nc,
+                           const tc_api_limits *lim, tc_api_result *res, tc_error_stats *e) {
+    size_t n = req->nreference, ncs = (size_t)nc;
+    if (n <= COMPARE_CHUNK)
+        return tc_compare(r, L, n, req->reference_points, req->reference_values, req->reference_scale, e);
+    double scale = req->reference_scale > 0 ? req->reference_scale : max_abs_of(req->reference_values, n * ncs);
+    pooled p = {0, 0, 0};
+    *e = (tc_error_stats){0};
+    e->scale = scale;
+    for (size_t i = 0; i < n; i += COMPARE_CHUNK) {
+        if (late(lim, res, "comparing with the reference")) return TC_ETIMEOUT;
+        size_t k = n - i < COMPARE_CHUNK ? n - i : COMPARE_CHUNK;
+        tc_error_stats c;
+        tc_compare(r, L, k, req->reference_points + 2 * i, req->reference_values + i * ncs, scale, &c);
+        pool_add(&p, e, &c, nc);
+    }
+    if (p.count > 0) e->rms = sqrt(p.sum2 / p.count), e->mean_rel = scale > 0 ? p.sum_abs / p.count / scale : 0;
+    return TC_OK;
+}
+
+/* One method: build it, compare it at the reference points, write its entry.
+ * TC_ETIMEOUT (res holds the 503) if the deadline passed, else TC_OK. */
+static int compare_one(const job *j, const tc_locator *L, const tc_options *opt, tc_strbuf *b,
+                       const tc_api_limits *lim, tc_api_result *res, double *t0) {
     const tc_request *req = j->req;
     tc_recon *r = NULL;
     tc_diags dg;
@@ -374,7 +450,8 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *opt
     int rc = tc_recon_new(j->mesh, opt, &r, &dg);
     double build_ms = tc_now_ms() - t_build;
     lap(res, TC_PHASE_BUILD, t0);
-    if (rc != TC_OK) {
+    if (late(lim, res, "building a method")) rc = TC_ETIMEOUT;
+    else if (rc != TC_OK) {
         tc_strbuf_puts(b, ",\"error\":{\"path\":");
         tc_strbuf_json_string(b, dg.count ? dg.items[0].path : "");
         tc_strbuf_puts(b, ",\"message\":");
@@ -383,7 +460,7 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *opt
     } else {
         tc_error_stats e;
         double t_eval = tc_now_ms();
-        tc_compare(r, L, req->nreference, req->reference_points, req->reference_values, req->reference_scale, &e);
+        rc = compare_chunked(r, L, req, tc_mesh_channel_count(j->mesh), lim, res, &e);
         double eval_ms = tc_now_ms() - t_eval;
         lap(res, TC_PHASE_EVALUATE, t0);
         compare_member_number(b, "build_ms", build_ms);
@@ -396,6 +473,7 @@ static void compare_one(const job *j, const tc_locator *L, const tc_options *opt
     }
     tc_recon_free(r);
     tc_diags_free(&dg);
+    return rc == TC_ETIMEOUT ? TC_ETIMEOUT : TC_OK;
 }
 
 int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
@@ -414,16 +492,18 @@ int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_st
         tc_strbuf_printf(&b, "{\"channels\":%d,\"reference_points\":%zu,\"results\":[", j.req->desc.nchan,
                          j.req->nreference);
         int n = j.req->nmethods ? j.req->nmethods : tc_method_count(); /* default: every method */
-        for (int i = 0; i < n; i++) {
+        int timeout = late(lim, res, "checking the mesh");
+        for (int i = 0; i < n && !timeout; i++) {
             tc_options opt = j.req->opt;
             if (j.req->nmethods) opt = j.req->methods[i];
             else opt.method = (tc_method)i;
             if (i) tc_strbuf_putc(&b, ',');
-            compare_one(&j, L, &opt, &b, res, &t0);
+            timeout = compare_one(&j, L, &opt, &b, lim, res, &t0) == TC_ETIMEOUT;
         }
         tc_strbuf_putc(&b, ']');
         res->triangles = (int64_t)n * triangle_count(j.req);
-        finish(out, &b, res);
+        if (timeout) tc_strbuf_free(&b);
+        else finish(out, &b, res);
         lap(res, TC_PHASE_ENCODE, &t0);
     } else if (rc > 0) {
         res->status = status_of_core(rc);

@@ -24,6 +24,10 @@ static const option options[] = {
     {"--listen", "TOCHER_LISTEN", "HOST:PORT", "address to bind; port 0 picks a free port", K_LISTEN, 0, 0, 0},
     {"--threads", "TOCHER_THREADS", "N", "HTTP worker threads (requests served side by side)", K_INT, F(threads), 1,
      1024},
+    {"--workers", "TOCHER_WORKERS", "N", "threads that compute answers (the HTTP threads only move bytes)", K_INT,
+     F(workers), 1, 1024},
+    {"--max-queue", "TOCHER_MAX_QUEUE", "N", "requests waiting for a worker; more get 503 with Retry-After", K_INT,
+     F(max_queue), 1, 1e6},
     {"--render-threads", "TOCHER_RENDER_THREADS", "N", "threads one render may use", K_INT, F(render_threads), 1, 1024},
     {"--max-body", "TOCHER_MAX_BODY", "BYTES", "largest request body (suffix k, M, G: binary units)", K_BYTES,
      F(max_body), 1, 1LL << 40},
@@ -67,6 +71,8 @@ static void defaults(tc_srv_config *c) {
     c->port = 8080;
     c->threads = ncpu < 2 ? 2 : ncpu;
     c->render_threads = ncpu;
+    c->workers = 2 * c->threads; /* long renders up to --threads leave workers for small requests */
+    c->max_queue = 256;
     c->max_body = 64LL << 20;
     c->max_vertices = 2000000;
     c->max_triangles = 4000000;
@@ -166,7 +172,8 @@ static void help(void) {
         printf("  %-30s %s\n  %-30s   env %s, default %s\n", flag, o->help, "", o->env, def);
     }
     printf("  %-30s %s\n  %-30s %s\n\n", "--help", "this text", "--version", "print the version");
-    printf("Defaults of --threads (at least 2) and --render-threads follow the number of CPUs (%d here).\n"
+    printf("Defaults of --threads (at least 2), --workers (twice that) and --render-threads follow the\n"
+           "number of CPUs (%d here).\n"
            "Listening on all interfaces needs an explicit --listen 0.0.0.0:PORT.\n",
            tc_cpu_count());
 }

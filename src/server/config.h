@@ -8,6 +8,8 @@ typedef struct {
     long long port;                /* 0: any free port */
     long long threads;             /* libmicrohttpd pool threads */
     long long render_threads;      /* worker threads of one render */
+    long long workers;             /* compute threads: POST routes run there, off the I/O threads */
+    long long max_queue;           /* requests waiting for a worker; beyond, 503 */
     long long max_body;            /* bytes */
     long long max_vertices, max_triangles, max_points, max_pixels; /* 0: no limit */
     long long max_connections;     /* open connections at once */

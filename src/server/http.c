@@ -1,7 +1,9 @@
 /* http.c — one request's life in libmicrohttpd: the first call checks the
  * headers (and refuses bad framing, 404/405/415/413 before any body byte is read), data calls
- * collect the body under --max-body, the last call runs the route and queues
- * the reply; the completion callback logs it and counts it. */
+ * collect the body under --max-body, the last call hands a POST route to the
+ * worker pool with the connection suspended (GET routes run inline), and the
+ * call after the worker resumes it queues the reply; the completion callback
+ * logs it and counts it. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,7 +38,17 @@ typedef struct {
     int queued; /* a response is queued: what follows is for the log and metrics */
     int status;
     size_t bytes;
+    /* The route on a worker: job goes JOB_NONE -> JOB_QUEUED (connection
+     * suspended) -> JOB_DONE (reply filled, then the worker resumes the
+     * connection; MHD's resume lock orders the two threads). */
+    int job;
+    struct MHD_Connection *conn;
+    const tc_http_state *srv;
+    const char *accept; /* the Accept header (the connection's memory, kept while the request lives) */
+    tc_reply reply;
 } exchange;
+
+enum { JOB_NONE, JOB_QUEUED, JOB_DONE };
 
 /* libmicrohttpd 0.9.75 cannot queue a response in the middle of an upload, so
  * a body refused mid-way (a chunked one past the limit) is read and dropped
@@ -62,6 +74,7 @@ static exchange *exchange_new(const tc_http_state *srv, const char *url, const c
 }
 
 static void exchange_free(exchange *ex) {
+    if (ex->job != JOB_NONE) tc_reply_free(&ex->reply);
     tc_body_free(&ex->body);
     free(ex->path);
     free(ex);
@@ -253,12 +266,9 @@ static tc_api_limits limits(const tc_srv_config *cfg, double t0) {
     return lim;
 }
 
-/* Runs the route. The idle timeout is off meanwhile (and restarts after): the
- * work is bounded by the request deadline, and a computation longer than the
- * idle timeout must not cost the answer. */
-static void run(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex, tc_reply *r) {
-    tc_route_input in = {ex->body.buf ? ex->body.buf : "", ex->body.len, header(c, MHD_HTTP_HEADER_ACCEPT),
-                         limits(srv->cfg, ex->t0)};
+/* Runs the route (on a worker for POST routes: it touches no connection state). */
+static void run(const tc_http_state *srv, exchange *ex, tc_reply *r) {
+    tc_route_input in = {ex->body.buf ? ex->body.buf : "", ex->body.len, ex->accept, limits(srv->cfg, ex->t0)};
     long long bad;
     if (past_deadline(srv->cfg, ex))
         return tc_reply_problem(r, TC_PROBLEM_TIMEOUT, "the request took too long to arrive");
@@ -267,24 +277,77 @@ static void run(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex
         snprintf(detail, sizeof detail, "the body is not UTF-8 (byte %lld)", bad);
         return tc_reply_problem(r, TC_PROBLEM_MALFORMED, detail);
     }
-    MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, 0u);
     ex->route->fn(&in, r);
-    MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, (unsigned)srv->cfg->connection_timeout);
     /* Not every phase of the API watches the deadline; the answer keeps the promise. */
     if (r->status < 500 && past_deadline(srv->cfg, ex)) {
         char detail[128];
-        snprintf(detail, sizeof detail, "the request took %.1f s; this server allows %g s",
+        snprintf(detail, sizeof detail, "the request ran past its time limit: it took %.1f s; this server allows %g s",
                  (tc_now_ms() - ex->t0) * 1e-3, srv->cfg->request_timeout);
         tc_reply_problem(r, TC_PROBLEM_TIMEOUT, detail);
     }
 }
 
+/* A worker's job: the route, or (cancelled at shutdown) a 503 saying it could
+ * not start. Resuming the connection is the last touch of ex. */
+static void job_run(void *arg, int cancelled) {
+    exchange *ex = arg;
+    if (cancelled) {
+        tc_metrics_workers(-1, 0);
+        tc_reply_problem(&ex->reply, TC_PROBLEM_BUSY, "the server shut down before this request could start; retry");
+        ex->reply.retry_after = 1;
+    } else {
+        tc_metrics_workers(-1, 1);
+        run(ex->srv, ex, &ex->reply);
+        tc_metrics_workers(0, -1);
+    }
+    ex->job = JOB_DONE;
+    MHD_resume_connection(ex->conn);
+}
+
+/* Suspends the connection and queues the route on the pool. The idle timeout
+ * is off meanwhile (restored in reply_job): the work is bounded by the request
+ * deadline, and a wait longer than the idle timeout must not cost the answer.
+ * A full queue is answered 503 at once. */
+static enum MHD_Result submit_job(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
+    ex->conn = c, ex->srv = srv;
+    ex->accept = header(c, MHD_HTTP_HEADER_ACCEPT);
+    tc_reply_init(&ex->reply);
+    ex->job = JOB_QUEUED;
+    MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, 0u);
+    MHD_suspend_connection(c); /* before submit: a worker may resume it at once */
+    tc_metrics_workers(1, 0);
+    if (tc_pool_submit(srv->pool, job_run, ex) == 0) return MHD_YES;
+    tc_metrics_workers(-1, 0);
+    /* Refused: answered like a finished job, by the call the resume brings. */
+    char detail[160];
+    snprintf(detail, sizeof detail, "all %lld workers are busy and %lld requests wait for one; retry later",
+             srv->cfg->workers, srv->cfg->max_queue);
+    tc_reply_problem(&ex->reply, TC_PROBLEM_BUSY, detail);
+    ex->reply.retry_after = 1;
+    ex->job = JOB_DONE;
+    MHD_resume_connection(c);
+    return MHD_YES;
+}
+
+/* After the worker resumed the connection: restore the idle timeout, send. */
+static enum MHD_Result reply_job(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
+    MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, (unsigned)srv->cfg->connection_timeout);
+    ex->job = JOB_NONE;
+    tc_reply r = ex->reply;
+    tc_reply_init(&ex->reply);
+    return send_reply(srv, c, ex, &r);
+}
+
 static enum MHD_Result last_call(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
     if (ex->queued) return MHD_YES;
+    if (ex->job == JOB_DONE) return reply_job(srv, c, ex);
+    if (ex->job == JOB_QUEUED) return MHD_YES; /* not expected while suspended; the worker resumes it */
     if (ex->pending) return answer_pending(srv, c, ex);
-    tc_reply r;
+    if (tc_route_takes_body(ex->route)) return submit_job(srv, c, ex);
+    tc_reply r; /* GET routes answer from memory: inline */
     tc_reply_init(&r);
-    run(srv, c, ex, &r);
+    ex->accept = header(c, MHD_HTTP_HEADER_ACCEPT);
+    run(srv, ex, &r);
     return send_reply(srv, c, ex, &r);
 }
 

@@ -1,6 +1,7 @@
 /* http.h — the libmicrohttpd glue: the access handler that checks headers,
- * collects bodies under the limit, dispatches to a route and sends the reply,
- * and the completion callback that logs and counts each request. */
+ * collects bodies under the limit, hands the route to the worker pool (the
+ * connection suspended meanwhile) and sends the reply, and the completion
+ * callback that logs and counts each request. */
 #ifndef TC_SERVER_HTTP_H
 #define TC_SERVER_HTTP_H
 
@@ -12,11 +13,13 @@
 #include <microhttpd.h>
 
 #include "server/config.h"
+#include "server/pool.h"
 
 /* Shared by all connections (the `cls` of both callbacks). */
 typedef struct {
     const tc_srv_config *cfg;
     atomic_int draining; /* set on shutdown: new requests get 503 and Connection: close */
+    tc_pool *pool;       /* runs the POST routes off the I/O threads */
 } tc_http_state;
 
 enum MHD_Result tc_http_access(void *cls, struct MHD_Connection *c, const char *url, const char *method,

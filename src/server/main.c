@@ -35,22 +35,33 @@ static void init_metrics(void) {
     tc_metrics_init(labels, n);
 }
 
-/* Waits until no request is in flight, the grace period is over, or a second
- * signal asks to stop at once. */
-static void drain(const sigset_t *sigs, double grace_s) {
-    double end = tc_now_ms() + grace_s * 1e3;
+/* After the last request, how long an idle keep-alive connection is left
+ * open: a request its client sends meanwhile still gets its 503 and
+ * Connection: close, where closing it under the request would reset it. */
+#define LINGER_MS 500.0
+
+/* Waits until no connection is open (or none has a request in flight and the
+ * others have been idle for LINGER_MS), the grace period is over, or a second
+ * signal asks to stop at once. 0 if drained, else 1. */
+static int drain(const sigset_t *sigs, tc_server *srv, double grace_s) {
+    double now = tc_now_ms(), end = now + grace_s * 1e3, idle_since = 0;
     const struct timespec tick = {0, 20 * 1000 * 1000};
     long n;
-    while ((n = tc_metrics_in_flight()) > 0) {
-        if (tc_now_ms() >= end) {
+    while (tc_server_connections(srv) > 0) {
+        now = tc_now_ms();
+        if ((n = tc_metrics_in_flight()) > 0) idle_since = 0;
+        else if (!idle_since) idle_since = now;
+        else if (now - idle_since >= LINGER_MS) return 0;
+        if (now >= end) {
             tc_log_notice("grace period over with %ld request(s) in flight; stopping", n);
-            return;
+            return 1;
         }
         if (sigtimedwait(sigs, NULL, &tick) > 0) {
             tc_log_notice("second signal; stopping with %ld request(s) in flight", n);
-            return;
+            return 1;
         }
     }
+    return 0;
 }
 
 int main(int argc, char **argv) {
@@ -73,7 +84,12 @@ int main(int argc, char **argv) {
     tc_log_notice("%s: no new connections; waiting for %ld request(s) in flight", sig == SIGINT ? "SIGINT" : "SIGTERM",
                   tc_metrics_in_flight());
     tc_server_quiesce(srv);
-    drain(&sigs, cfg.shutdown_grace);
+    if (drain(&sigs, srv, cfg.shutdown_grace)) {
+        /* Requests still waiting for a worker get their 503 + Retry-After
+         * (after those computing finish), and a moment to send it. */
+        tc_server_cancel_waiting(srv);
+        drain(&sigs, srv, 1.0);
+    }
     tc_server_stop(srv);
     tc_log_notice("stopped");
     return 0;

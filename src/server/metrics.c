@@ -23,6 +23,7 @@ static atomic_ullong buckets[SLOTS][NB + 1]; /* not cumulative; summed on output
 static atomic_ullong sum_ns[SLOTS];
 static atomic_ullong triangles_total, pixels_total;
 static atomic_long in_flight;
+static atomic_long jobs_waiting, jobs_running; /* the worker pool's, as http.c moves jobs */
 
 void tc_metrics_init(const char *const *route_labels, int n) {
     nroutes = n < TC_METRICS_MAX_ROUTES ? n : TC_METRICS_MAX_ROUTES;
@@ -37,6 +38,11 @@ static unsigned long long get(atomic_ullong *a) { return atomic_load_explicit(a,
 void tc_metrics_begin(void) { atomic_fetch_add(&in_flight, 1); }
 
 long tc_metrics_in_flight(void) { return atomic_load(&in_flight); }
+
+void tc_metrics_workers(int waiting, int running) {
+    atomic_fetch_add(&jobs_waiting, waiting);
+    atomic_fetch_add(&jobs_running, running);
+}
 
 static int slot_of(int route) { return route >= 0 && route < nroutes ? route : TC_METRICS_MAX_ROUTES; }
 
@@ -105,6 +111,10 @@ void tc_metrics_write(tc_strbuf *o) {
     tc_strbuf_printf(o, "tocher_pixels_processed_total %llu\n", get(&pixels_total));
     header(o, "tocher_http_requests_in_flight", "gauge", "HTTP requests being received or worked on.");
     tc_strbuf_printf(o, "tocher_http_requests_in_flight %ld\n", tc_metrics_in_flight());
+    header(o, "tocher_worker_queue_length", "gauge", "Requests waiting for a worker thread.");
+    tc_strbuf_printf(o, "tocher_worker_queue_length %ld\n", atomic_load(&jobs_waiting));
+    header(o, "tocher_workers_busy", "gauge", "Worker threads computing an answer.");
+    tc_strbuf_printf(o, "tocher_workers_busy %ld\n", atomic_load(&jobs_running));
     header(o, "tocher_build_info", "gauge", "Version of this daemon; always 1.");
     tc_strbuf_printf(o, "tocher_build_info{version=\"%s\"} 1\n", TC_VERSION);
 }

@@ -22,6 +22,9 @@ void tc_metrics_answered(int route, int status, double seconds, int64_t triangle
 /* A request is over, answered or not (then counted as aborted). */
 void tc_metrics_end(int route, int answered);
 
+/* Adds to the requests waiting for a worker and to those computing on one. */
+void tc_metrics_workers(int waiting, int running);
+
 /* Requests begun and not yet ended. */
 long tc_metrics_in_flight(void);
 

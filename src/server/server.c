@@ -1,6 +1,8 @@
 /* server.c — the listening daemon: address resolution, the libmicrohttpd
  * options (thread pool, limits, timeouts, callbacks), quiesce and stop. */
 #include <arpa/inet.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -66,7 +68,8 @@ static void describe(tc_server *s, const struct sockaddr_storage *ss) {
 }
 
 static struct MHD_Daemon *start(tc_server *s, const tc_srv_config *cfg, struct sockaddr_storage *ss) {
-    unsigned flags = MHD_USE_AUTO_INTERNAL_THREAD | MHD_USE_ERROR_LOG | MHD_USE_ITC;
+    /* Suspend/resume: POST routes run on the worker pool (http.c). */
+    unsigned flags = MHD_USE_AUTO_INTERNAL_THREAD | MHD_USE_ERROR_LOG | MHD_USE_ITC | MHD_ALLOW_SUSPEND_RESUME;
     if (ss->ss_family == AF_INET6) flags |= MHD_USE_IPv6;
     /* The port is taken from ss; libmicrohttpd only quotes it in messages. */
     return MHD_start_daemon(flags, (uint16_t)cfg->port, NULL, NULL, tc_http_access, &s->state,
@@ -93,8 +96,15 @@ tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
     s->quiesced = MHD_INVALID_SOCKET;
     s->conns = tc_conns_start(cfg);
     if (!s->conns) return free(s), snprintf(err, errlen, "cannot start the deadline thread"), NULL;
+    s->state.pool = tc_pool_new((int)cfg->workers, (int)cfg->max_queue);
+    if (!s->state.pool) {
+        tc_conns_stop(s->conns);
+        free(s);
+        return snprintf(err, errlen, "cannot start %lld worker threads", cfg->workers), NULL;
+    }
     s->d = start(s, cfg, &ss);
     if (!s->d) {
+        tc_pool_free(s->state.pool);
         tc_conns_stop(s->conns);
         snprintf(err, errlen, "cannot listen on %s:%lld (in use, or not an address of this host?)", cfg->host,
                  cfg->port);
@@ -107,17 +117,47 @@ tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
 
 const char *tc_server_address(const tc_server *s) { return s->address; }
 
+/* Connections the kernel completed before the quiesce wait in the listen
+ * queue, their requests perhaps sent: shutting the socket would reset them.
+ * Each is handed to the daemon, which answers it 503 (draining) with
+ * Retry-After and Connection: close. */
+static void take_backlog(tc_server *s) {
+    int fl = fcntl(s->quiesced, F_GETFL);
+    if (fl < 0 || fcntl(s->quiesced, F_SETFL, fl | O_NONBLOCK) < 0) return;
+    for (;;) {
+        struct sockaddr_storage a;
+        socklen_t n = sizeof a;
+        int fd = accept(s->quiesced, (struct sockaddr *)&a, &n);
+        if (fd < 0 && errno == EINTR) continue;
+        if (fd < 0) return;
+        /* On failure libmicrohttpd closes fd itself. */
+        if (MHD_add_connection(s->d, fd, (struct sockaddr *)&a, n) != MHD_YES)
+            tc_log_notice("draining: could not take a queued connection (%s)", strerror(errno));
+    }
+}
+
 void tc_server_quiesce(tc_server *s) {
     atomic_store(&s->state.draining, 1);
     s->quiesced = MHD_quiesce_daemon(s->d);
+    if (s->quiesced == MHD_INVALID_SOCKET) return;
+    take_backlog(s);
     /* The socket stays open until MHD_stop_daemon (the library's rule), but it
      * must stop taking connections now: shutting it down makes new connects
-     * fail at once and resets those queued, instead of hanging until exit. */
-    if (s->quiesced != MHD_INVALID_SOCKET) shutdown(s->quiesced, SHUT_RDWR);
+     * fail at once instead of hanging until exit. */
+    shutdown(s->quiesced, SHUT_RDWR);
 }
+
+unsigned tc_server_connections(const tc_server *s) {
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(s->d, MHD_DAEMON_INFO_CURRENT_CONNECTIONS);
+    return info ? info->num_connections : 0;
+}
+
+void tc_server_cancel_waiting(tc_server *s) { tc_pool_stop(s->state.pool); }
 
 void tc_server_stop(tc_server *s) {
     if (!s) return;
+    /* Before the daemon: every suspended connection must be resumed first. */
+    tc_pool_free(s->state.pool);
     MHD_stop_daemon(s->d);
     tc_conns_stop(s->conns); /* after the daemon: no connection is left to notify */
     if (s->quiesced != MHD_INVALID_SOCKET) close(s->quiesced); /* only after stop: see MHD_quiesce_daemon */
