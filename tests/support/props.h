@@ -1,5 +1,6 @@
 /* props.h — shared checks of reconstruction properties used by several test
- * files: continuity residuals, scales, the standard smooth test function. */
+ * files: continuity residuals, scales, the standard smooth test function
+ * (continuity.c), convergence and reproduction errors (props.c). */
 #ifndef TC_TEST_PROPS_H
 #define TC_TEST_PROPS_H
 
