@@ -2,7 +2,8 @@
 # plugin (libtocher_image.so), the tests and the benchmarks (build/report, build/bench_perf).
 # `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan, built
 # with -Wconversion and the core's assertions on; `make report` / `make bench` measure
-# (docs/report.md, docs/performance.md); `make torture` attacks the daemon at full size.
+# (docs/report.md, docs/performance.md); `make torture` attacks the daemon at full size;
+# `make fuzz` builds the libFuzzer target (tests/fuzz/).
 
 CC      ?= cc
 BUILD   ?= build
@@ -14,7 +15,8 @@ CFLAGS  ?=
 LDFLAGS ?=
 
 DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev libmicrohttpd-dev libopenimageio-dev \
-                   openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml curl wrk
+                   openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml \
+                   python3-jsonschema curl wrk
 
 CJSON_CFLAGS := $(shell pkg-config --cflags libcjson 2>/dev/null)
 CJSON_LIBS   := $(shell pkg-config --libs libcjson 2>/dev/null || echo -lcjson)
@@ -52,7 +54,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit check torture run clean report report-quick bench
+.PHONY: all deps test test-unit check torture run clean report report-quick bench fuzz fuzz-deps
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -134,6 +136,31 @@ check: deps
 	  all build/san/test_unit build/san/report build/san/bench_perf
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 
+# The libFuzzer target over the JSON API's request -> response functions (tests/fuzz/):
+# the library rebuilt with clang and ASan+UBSan (assertions on) in build/fuzz/, the
+# target linked with -fsanitize=fuzzer (clang, unlike gcc, warns on `(T){first}`
+# compound literals, hence -Wno-missing-field-initializers). Only this needs clang, so `make test` does not
+# install it. Run: build/fuzz/fuzz_api -dict=tests/fuzz/json.dict NEW_DIR tests/fuzz/corpus
+# FUZZ_ASSERTS= FUZZ_BUILD=build/fuzz-na: the same without the assertions, to fuzz past a
+# known invariant failure with only the sanitizers watching.
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FUZZ_BUILD ?= build/fuzz
+FUZZ_ASSERTS ?= -DTC_DEBUG
+fuzz: deps fuzz-deps
+	@$(MAKE) --no-print-directory CC=clang BUILD=$(FUZZ_BUILD) OPT=-O1 ASSERTS="$(FUZZ_ASSERTS)" \
+	  CFLAGS="-Wno-missing-field-initializers $(CFLAGS)" \
+	  SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" FUZZ_LINK="$(FUZZ_SAN) -fsanitize=fuzzer" \
+	  $(FUZZ_BUILD)/fuzz_api
+
+fuzz-deps:
+	@command -v clang >/dev/null 2>&1 || { \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  $$SUDO apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends clang >/dev/null; }
+
+$(BUILD)/fuzz_api: $(call obj,tests/fuzz/fuzz_api.c) $(BUILD)/libtocher.a
+	$(CC) $(FUZZ_LINK) $(LDFLAGS) $^ $(LIBS) -o $@
+
 # The daemon under hostile load at full size (slow clients, floods, huge bodies): every
 # tests/torture/*.py against the daemon in $(BUILD); minutes, not run by CI. Their short
 # forms run in `make test` (tests/endpoint/).
@@ -155,4 +182,4 @@ run: deps
 clean:
 	rm -rf build
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(SRV_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(BENCH_OBJ:.o=.d)
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(SRV_OBJ:.o=.d) $(TEST_OBJ:.o=.d) $(BENCH_OBJ:.o=.d) $(BUILD)/obj/tests/fuzz/fuzz_api.d
