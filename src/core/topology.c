@@ -2,6 +2,7 @@
  * the continuity flags the front-end's polylines put on edges. Rejects meshes
  * that are not 2-manifold with consistent sides (repeats, 3-way edges, folds). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/alloc.h"
@@ -95,6 +96,62 @@ static int link_edge(struct tc_mesh *m, int32_t t, int k, tc_diags *dg) {
     return TC_OK;
 }
 
+/* One step around vertex v: from corner *c, whose triangle was entered across
+ * its edge v-*w, across its other edge at v; *c and *w become the next corner
+ * and the vertex of the edge crossed. Triangles keep the orientation they were
+ * given, so the walk goes by edges, not by turning direction. Returns 0 at the
+ * mesh's boundary. */
+static int fan_step(const struct tc_mesh *m, int32_t v, int32_t *c, int32_t *w) {
+    int32_t t = *c / 3, k = *c % 3;
+    int32_t p = m->tri[3 * (size_t)t + (size_t)(k + 1) % 3], q = m->tri[3 * (size_t)t + (size_t)(k + 2) % 3];
+    int leave_k = *w != p; /* edge k joins v and p; edge k + 2 joins q and v */
+    int32_t t2 = m->nbr[3 * (size_t)t + (size_t)(leave_k ? k : (k + 2) % 3)];
+    if (t2 < 0) return 0;
+    *c = 3 * t2 + tc__corner_of(m, t2, v);
+    *w = leave_k ? p : q;
+    return 1;
+}
+
+/* A vertex whose triangles around it close a full turn, and that has more
+ * triangles than that turn: the others overlap it (the fan covers every
+ * direction from v), which no edge test sees when they share only v. Each
+ * walk starts at an unmarked corner and marks its fan both ways, so every
+ * corner is visited once: O(corners). */
+static int check_fans(const struct tc_mesh *m, tc_diags *dg) {
+    int32_t *seen = tc__calloc(3 * (size_t)m->nt, sizeof *seen);
+    if (!seen) return TC_ENOMEM;
+    int rc = TC_OK;
+    for (int32_t v = 0; v < m->nv && rc == TC_OK; v++) {
+        int32_t count = m->vstart[v + 1] - m->vstart[v];
+        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1] && rc == TC_OK; i++) {
+            int32_t c0 = m->vcorner[i], n = 1, c = c0, k0 = c0 % 3;
+            int32_t p0 = m->tri[3 * (size_t)(c0 / 3) + (size_t)(k0 + 1) % 3], q0 = m->tri[3 * (size_t)(c0 / 3) + (size_t)(k0 + 2) % 3];
+            if (seen[c0] == v + 1) continue;
+            seen[c0] = v + 1;
+            int32_t w = q0; /* as if entered across v-q0: leaves across v-p0 */
+            while (fan_step(m, v, &c, &w) && seen[c] != v + 1) seen[c] = v + 1, n++;
+            int closed = c == c0 && seen[c] == v + 1 && n > 1;
+            if (!closed) { /* open: mark the rest of this fan, behind c0 */
+                c = c0, w = p0;
+                while (fan_step(m, v, &c, &w) && seen[c] != v + 1) seen[c] = v + 1;
+                continue;
+            }
+            if (n == count) continue;
+            int32_t other = -1;
+            for (int32_t j = m->vstart[v]; j < m->vstart[v + 1] && other < 0; j++)
+                if (seen[m->vcorner[j]] != v + 1) other = m->vcorner[j] / 3;
+            char path[48];
+            tc__elem_path(m, other, path, sizeof path);
+            rc = tc_diags_add(dg, TC_SEV_ERROR, path,
+                              "overlaps the triangles around vertex %d: %d of them close a full turn around it, so "
+                              "any other triangle at that vertex lies on top of one of them",
+                              (int)v, (int)n);
+        }
+    }
+    free(seen);
+    return rc;
+}
+
 int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     size_t nc = 3 * (size_t)m->nt;
     int rc = build_vertex_corners(m);
@@ -108,6 +165,7 @@ int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
         for (int k = 0; k < 3; k++)
             if (link_edge(m, t, k, dg) != TC_OK) rc = TC_EINVAL;
     if (rc != TC_OK) return rc;
+    if ((rc = check_fans(m, dg)) != TC_OK) return rc;
     for (size_t c = 0; c < nc; c++) m->flag[c] = m->nbr[c] >= 0 ? TC_C1 : TC_CM1;
     return TC_OK;
 }

@@ -892,6 +892,31 @@ TEST(validate_salesin_literal_project_singular_only_when_vertical) {
     tc_diags_free(&dg);
 }
 
+/* A triangle that shares only a vertex with a closed fan around it lies on
+ * top of one of the fan's triangles: no shared edge shows it, so the edge tests
+ * let it through and the methods that ignore flags built a full-turn wedge at
+ * a vertex the mesh calls a boundary one (found by make fuzz; TC_ASSERT in
+ * tc__wedges_build). Refused, naming the triangle and the vertex. Two open
+ * fans meeting at a vertex (a bowtie) do not overlap and pass, in either
+ * orientation of their triangles. */
+TEST(validate_triangle_on_a_closed_fan) {
+    const double xy[14] = {0, 0, 1, 0, 1, 1, 0, 1, 0.5, 0.5, 0.6, 0.9, 0.4, 0.9};
+    const int32_t tri[15] = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4, 4, 5, 6};
+    const double v[7] = {0, 0, 0, 0, 1, 0.5, 0.5};
+    tc_mesh_desc d = square();
+    d.nverts = 7, d.xy = xy, d.ntris = 5, d.tris = tri, d.values = v;
+    FAILS(&d, "triangles[4]", "overlaps the triangles around vertex 4", "full turn");
+    d.nverts = 5, d.ntris = 4; /* the closed fan alone */
+    PASSES(&d);
+    const double bxy[10] = {0, 0, 1, 0.2, 1, -0.2, -1, 0.2, -1, -0.2};
+    const int32_t btri[6] = {0, 2, 1, 0, 4, 3}, bcw[6] = {0, 1, 2, 0, 3, 4};
+    const double bv[5] = {1, 0, 0, 0, 0};
+    d.nverts = 5, d.xy = bxy, d.ntris = 2, d.tris = btri, d.values = bv;
+    PASSES(&d);
+    d.tris = bcw;
+    PASSES(&d);
+}
+
 /* Values near the double range: the ordinates overflow, and the refusal says
  * so in words ("-inf" and "nan" printed as numbers told nobody anything:
  * issue 14), naming the cause that fits the method. */
