@@ -137,9 +137,13 @@ static int check_fans(const struct tc_mesh *m, tc_diags *dg) {
                 continue;
             }
             if (n == count) continue;
+            /* Name a triangle outside this fan: mark the fan apart (-(v + 1)) and take one
+             * corner of v that is not in it (an earlier walk may have marked the others). */
+            c = c0, w = q0, seen[c0] = -(v + 1);
+            while (fan_step(m, v, &c, &w) && seen[c] != -(v + 1)) seen[c] = -(v + 1);
             int32_t other = -1;
             for (int32_t j = m->vstart[v]; j < m->vstart[v + 1] && other < 0; j++)
-                if (seen[m->vcorner[j]] != v + 1) other = m->vcorner[j] / 3;
+                if (seen[m->vcorner[j]] != -(v + 1)) other = m->vcorner[j] / 3;
             char path[48];
             tc__elem_path(m, other, path, sizeof path);
             rc = tc_diags_add(dg, TC_SEV_ERROR, path,

@@ -906,6 +906,11 @@ TEST(validate_triangle_on_a_closed_fan) {
     tc_mesh_desc d = square();
     d.nverts = 7, d.xy = xy, d.ntris = 5, d.tris = tri, d.values = v;
     FAILS(&d, "triangles[4]", "overlaps the triangles around vertex 4", "full turn");
+    /* The same with the extra triangle first, so its (open) walk at vertex 4 comes first. */
+    const int32_t first[15] = {4, 5, 6, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4};
+    d.tris = first;
+    FAILS(&d, "triangles[0]", "overlaps the triangles around vertex 4", "full turn");
+    d.tris = tri;
     d.nverts = 5, d.ntris = 4; /* the closed fan alone */
     PASSES(&d);
     const double bxy[10] = {0, 0, 1, 0.2, 1, -0.2, -1, 0.2, -1, -0.2};
