@@ -221,7 +221,7 @@ static double whole_render(const char *json, size_t len, const char *format, int
     tc_strbuf_printf(&body, ",\"viewport\":{\"x0\":0,\"y0\":0,\"x1\":1,\"y1\":1,\"width\":%d,\"height\":%d},"
                             "\"format\":\"%s\"}",
                      TILE, TILE, format);
-    tc_api_limits lim = {0, 0, 0, 0, threads, 0};
+    tc_api_limits lim = {.render_threads = threads};
     double best = api_best(call_render, body.buf, body.len, &lim, ms, bytes);
     tc_strbuf_free(&body);
     return best;

@@ -180,7 +180,7 @@ static int dispatch(const args *a, const char *body, size_t len, const char *pts
     if (!strcmp(a->cmd, "eval")) return tc_api_evaluate(body, len, pts, plen, NULL, out, res);
     if (!strcmp(a->cmd, "compare")) return tc_api_compare(body, len, NULL, out, res);
     long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
-    tc_api_limits lim = {0, 0, 0, 0, a->threads ? a->threads : (ncpu > 0 ? (int)ncpu : 1), 0};
+    tc_api_limits lim = {.render_threads = a->threads ? a->threads : (ncpu > 0 ? (int)ncpu : 1)};
     return tc_api_render_as(body, len, tc_img_format_of_path(a->out), &lim, out, res); /* the extension's format */
 }
 

@@ -371,7 +371,10 @@ int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_li
         int fmt = format_of(j.req, fallback);
         const tc_viewport *vp = &j.req->viewport;
         int64_t np = (int64_t)vp->width * vp->height;
-        if (!over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") && check_format(&j, fmt, res) == 200) {
+        int64_t ns = np * tc_mesh_channel_count(j.mesh);
+        if (!over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") &&
+            !over(res, "viewport", ns, lim ? lim->max_samples : 0, "samples (pixels x channels)") &&
+            check_format(&j, fmt, res) == 200) {
             int rc = rasterize(&j, lim, fmt, &t);
             lap(res, TC_PHASE_EVALUATE, &t0);
             res->pixels = rc == TC_OK ? np : 0;

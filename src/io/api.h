@@ -16,6 +16,7 @@ extern const char *const tc_phase_names[TC_NPHASES];
 /* What one request may ask for; 0 means no limit. */
 typedef struct {
     int64_t max_vertices, max_triangles, max_points, max_pixels;
+    int64_t max_samples; /* pixels x channels of one render: what its answer holds */
     int render_threads;  /* worker threads for one render (>= 1) */
     double deadline_ms;  /* tc_now_ms() time after which work stops; 0 = none */
 } tc_api_limits;

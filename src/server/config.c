@@ -39,6 +39,9 @@ static const option options[] = {
      F(max_points), 0, 1e15},
     {"--max-pixels", "TOCHER_MAX_PIXELS", "N", "most pixels in one render (0: no limit)", K_INT, F(max_pixels), 0,
      1e15},
+    {"--max-samples", "TOCHER_MAX_SAMPLES", "N",
+     "most samples (pixels x channels) in one render: its answer's size (0: no limit)", K_INT, F(max_samples), 0,
+     1e15},
     {"--max-connections", "TOCHER_MAX_CONNECTIONS", "N", "open connections at once; more wait to be accepted", K_INT,
      F(max_connections), 1, 1e6},
     {"--request-timeout", "TOCHER_REQUEST_TIMEOUT", "SECONDS",
@@ -78,6 +81,7 @@ static void defaults(tc_srv_config *c) {
     c->max_triangles = 4000000;
     c->max_points = 10000000;
     c->max_pixels = 4096LL * 4096;
+    c->max_samples = 4LL * 4096 * 4096; /* an RGBA 4096^2 tile: 256 MiB of float samples */
     c->max_connections = 1024;
     c->connection_timeout = 10;
     c->max_connections_per_ip = 128;

@@ -11,7 +11,7 @@ typedef struct {
     long long workers;             /* compute threads: POST routes run there, off the I/O threads */
     long long max_queue;           /* requests waiting for a worker; beyond, 503 */
     long long max_body;            /* bytes */
-    long long max_vertices, max_triangles, max_points, max_pixels; /* 0: no limit */
+    long long max_vertices, max_triangles, max_points, max_pixels, max_samples; /* 0: no limit */
     long long max_connections;     /* open connections at once */
     long long connection_timeout;  /* seconds a connection may stay idle; 0: forever */
     long long max_connections_per_ip; /* open connections from one address; 0: no limit */

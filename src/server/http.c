@@ -260,8 +260,9 @@ static enum MHD_Result take_data(const tc_http_state *srv, struct MHD_Connection
 }
 
 static tc_api_limits limits(const tc_srv_config *cfg, double t0) {
-    tc_api_limits lim = {cfg->max_vertices, cfg->max_triangles, cfg->max_points, cfg->max_pixels,
-                         (int)cfg->render_threads, 0};
+    tc_api_limits lim = {.max_vertices = cfg->max_vertices, .max_triangles = cfg->max_triangles,
+                         .max_points = cfg->max_points, .max_pixels = cfg->max_pixels,
+                         .max_samples = cfg->max_samples, .render_threads = (int)cfg->render_threads};
     if (cfg->request_timeout > 0) lim.deadline_ms = t0 + cfg->request_timeout * 1e3;
     return lim;
 }

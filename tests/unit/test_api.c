@@ -900,3 +900,38 @@ TEST(api_render_saturates_to_the_format_with_a_warning) {
     tc_strbuf_free(&out);
     tc_api_result_free(&res);
 }
+
+/* The samples limit counts channels: a one-triangle, 16-channel request for a
+ * 4096^2 raw tile asked for a 1 GiB answer under the pixels limit alone (issue
+ * 14: 367 bytes in, +3.2 GB). Refused with 413 naming the viewport before any
+ * tile is allocated; within the limit, or with fewer channels, it renders. */
+TEST(api_render_samples_limit_counts_channels) {
+    char body[1024];
+    char vals[512] = "";
+    for (int v = 0; v < 3; v++) {
+        strcat(vals, v ? ",[" : "[");
+        for (int ch = 0; ch < 16; ch++) strcat(vals, ch ? ",0.5" : "0.5");
+        strcat(vals, "]");
+    }
+    snprintf(body, sizeof body,
+             "{\"vertices\": [[0,0],[1,0],[0,1]], \"triangles\": [[0,1,2]], \"values\": [%s], \"method\": \"linear\","
+             " \"format\": \"raw\", \"viewport\": {\"x0\": 0, \"y0\": 0, \"x1\": 1, \"y1\": 1, \"width\": 64, \"height\": 64}}",
+             vals);
+    tc_api_limits lim = {.max_pixels = 64 * 64, .max_samples = 64 * 64 * 4, .render_threads = 1};
+    tc_strbuf out;
+    tc_api_result res;
+    tc_strbuf_init(&out);
+    tc_api_result_init(&res);
+    CHECK(tc_api_render_as(body, strlen(body), -1, &lim, &out, &res) == 413 && out.len == 0);
+    CHECK_MSG(res.diags.count && !strcmp(res.diags.items[0].path, "viewport") &&
+                  strstr(res.diags.items[0].message, "65536 samples (pixels x channels)"),
+              "%s", res.diags.count ? res.diags.items[0].message : "-");
+    tc_strbuf_free(&out);
+    tc_api_result_free(&res);
+    lim.max_samples = 64 * 64 * 16;
+    tc_strbuf_init(&out);
+    tc_api_result_init(&res);
+    CHECK(tc_api_render_as(body, strlen(body), -1, &lim, &out, &res) == 200 && out.len == 64 * 64 * 16 * sizeof(float));
+    tc_strbuf_free(&out);
+    tc_api_result_free(&res);
+}

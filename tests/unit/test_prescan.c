@@ -71,7 +71,7 @@ TEST(prescan_survives_broken_and_deep_input) {
 TEST(prescan_api_refuses_before_parsing) {
     const char *mesh = "{\"vertices\":[[0,0],[1,0],[0,1]],\"triangles\":[[0,1,2]],\"values\":[1,2,3],"
                        "\"points\":[[0.1,0.1],[0.2,0.2],[0.3,0.3]]}";
-    tc_api_limits lim = {0, 0, 2, 0, 1, 0};
+    tc_api_limits lim = {.max_points = 2, .render_threads = 1};
     tc_strbuf out;
     tc_strbuf_init(&out);
     tc_api_result res = {0};
@@ -88,7 +88,7 @@ TEST(prescan_api_refuses_before_parsing) {
     tc_diags_free(&r1.diags);
     tc_strbuf_free(&out);
     const char *quads = "{\"vertices\":[[0,0],[1,0],[1,1],[0,1]],\"quads\":[[0,1,2,3],[0,1,2,3]],\"values\":[1,2,3,4]}";
-    tc_api_limits tl = {0, 3, 0, 0, 1, 0};
+    tc_api_limits tl = {.max_triangles = 3, .render_threads = 1};
     tc_api_result r2 = {0};
     tc_strbuf_init(&out);
     CHECK(tc_api_ordinates(quads, strlen(quads), &tl, &out, &r2) == 413);

@@ -611,7 +611,7 @@ TEST(quads_api_ordinates_and_limits) {
     tc_api_result_free(&res);
     tc_strbuf_free(&out);
 
-    tc_api_limits lim = {100, 3, 100, 100, 1, 0};
+    tc_api_limits lim = {.max_vertices = 100, .max_triangles = 3, .max_points = 100, .max_pixels = 100, .render_threads = 1};
     tc_strbuf_init(&out);
     tc_api_result_init(&res);
     CHECK(tc_api_ordinates(body, strlen(body), &lim, &out, &res) == 413);
