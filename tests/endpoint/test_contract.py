@@ -27,7 +27,6 @@ import re
 import shutil
 import signal
 import socket
-import subprocess
 import sys
 import tempfile
 import threading
@@ -35,7 +34,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests", "pylib"))
-from tochertest import SAN_RE, check, finish, first_line, say  # noqa: E402
+from tochertest import SAN_RE, Tocherd, check, finish, say  # noqa: E402
 
 BUILD = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build"))
 TOCHERD = os.path.join(BUILD, "tocherd")
@@ -252,33 +251,20 @@ def examples_valid():
 DAEMONS = []
 
 
-class Daemon:
+class Daemon(Tocherd):
     def __init__(self, name, *flags, env=None):
         self.name = name
-        e = {k: v for k, v in os.environ.items() if not k.startswith("TOCHER_") or k == "TOCHER_IMAGE_LIB"}
-        e.update(env or {})
-        self.err = open(os.path.join(TMP, name + ".stderr"), "wb")
-        self.proc = subprocess.Popen([TOCHERD, "--listen", "127.0.0.1:0", *flags], stdin=subprocess.DEVNULL,
-                                     stdout=subprocess.PIPE, stderr=self.err, env=e)
+        super().__init__(TOCHERD, os.path.join(TMP, name + ".stderr"), flags, env)
         DAEMONS.append(self)
-        line = first_line(self.proc, 30)
-        m = re.fullmatch(r"tocherd \S+ listening on http://127\.0\.0\.1:(\d+)", line)
-        if not m:
-            raise RuntimeError("%s: startup line %r" % (name, line))
-        self.port = int(m.group(1))
 
 
 def stop_all():
     for d in DAEMONS:
-        if d.proc.poll() is None:
-            d.proc.kill()
-            d.proc.wait()
-        d.err.close()
+        d.kill()
     # Under `make check` (build/san) the daemons' stderr carries any sanitizer report.
     reports = []
     for d in DAEMONS:
-        with open(os.path.join(TMP, d.name + ".stderr"), "rb") as f:
-            text = f.read().decode("utf-8", "replace")
+        text = d.stderr()
         if SAN_RE.search(text):
             reports.append("%s: %s" % (d.name, text[SAN_RE.search(text).start():][:300]))
     check("no sanitizer report from the %d daemons" % len(DAEMONS), not reports, "; ".join(reports))

@@ -45,7 +45,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests", "pylib"))
-from tochertest import LOCK, SAN_RE, check, finish, first_line, say, tally  # noqa: E402
+from tochertest import LOCK, SAN_RE, Tocherd, check, daemon_env, finish, say, tally  # noqa: E402
 BUILD = sys.argv[1] if len(sys.argv) > 1 else "build"
 if not os.path.isabs(BUILD) and not os.path.isdir(BUILD):
     BUILD = os.path.join(ROOT, BUILD)
@@ -70,59 +70,17 @@ DAEMONS = []
 LOG_RE = re.compile(r"^\S+ \S+ (\d{3}|-) \d+ [0-9.]+ms( \(.*\))?$")
 
 
-def daemon_env():
-    env = {k: v for k, v in os.environ.items() if not k.startswith("TOCHER_") or k == "TOCHER_IMAGE_LIB"}
-    return env
-
-
-class Daemon:
+class Daemon(Tocherd):
     """One tocherd on 127.0.0.1:0; its stderr goes to a file in TMP."""
 
     def __init__(self, name, *flags):
         self.name, self.flags = name, flags
-        self.err_path = os.path.join(TMP, name + ".stderr")
         self.sent = 0  # requests this script sent it (for the log-line count)
-        with open(self.err_path, "wb") as errf:
-            self.proc = subprocess.Popen([TOCHERD, "--listen", "127.0.0.1:0", *flags], stdin=subprocess.DEVNULL,
-                                         stdout=subprocess.PIPE, stderr=errf, env=daemon_env())
+        super().__init__(TOCHERD, os.path.join(TMP, name + ".stderr"), flags)
         DAEMONS.append(self)
-        self.line = first_line(self.proc, 30)
-        m = re.fullmatch(r"tocherd (\S+) listening on http://127\.0\.0\.1:(\d+)", self.line)
-        if not m:
-            raise RuntimeError("%s: startup line %r; stderr: %s" % (name, self.line, self.stderr()[:400]))
-        self.version, self.port = m.group(1), int(m.group(2))
-
-    @property
-    def pid(self):
-        return self.proc.pid
-
-    def alive(self):
-        return self.proc.poll() is None
 
     def rss_kb(self):
-        with open("/proc/%d/status" % self.pid) as f:
-            for line in f:
-                if line.startswith("VmRSS:"):
-                    return int(line.split()[1])
-        return -1
-
-    def stderr(self):
-        try:
-            with open(self.err_path, "rb") as f:
-                return f.read().decode("utf-8", "replace")
-        except OSError:
-            return ""
-
-    def stop(self, timeout=30):
-        """SIGTERM and wait: the exit status, or None if it had to be killed."""
-        if self.alive():
-            self.proc.send_signal(signal.SIGTERM)
-        try:
-            return self.proc.wait(timeout)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.proc.wait()
-            return None
+        return self.status("VmRSS")
 
 
 def _kill_all():

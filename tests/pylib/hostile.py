@@ -6,11 +6,10 @@ import os
 import re
 import resource
 import socket
-import subprocess
 import threading
 import time
 
-from tochertest import first_line
+from tochertest import Tocherd
 
 JSON_POST = b"Host: t\r\nContent-Type: application/json\r\n"
 
@@ -23,42 +22,15 @@ def raise_fd_limit(want):
     return resource.getrlimit(resource.RLIMIT_NOFILE)[0]
 
 
-class Daemon:
-    """One tocherd on 127.0.0.1:0 with TOCHER_* settings from env; stderr to a file."""
+class Daemon(Tocherd):
+    """One tocherd with TOCHER_* settings from env (name=value), stderr in tmp."""
 
     def __init__(self, build, tmp, name, **env):
-        e = {k: v for k, v in os.environ.items() if not k.startswith("TOCHER_") or k == "TOCHER_IMAGE_LIB"}
-        e.update({"TOCHER_" + k.upper(): str(v) for k, v in env.items()})
-        self.err_path = os.path.join(tmp, name + ".stderr")
-        with open(self.err_path, "wb") as errf:
-            self.proc = subprocess.Popen([os.path.join(build, "tocherd"), "--listen", "127.0.0.1:0"],
-                                         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=errf, env=e)
-        line = first_line(self.proc, 30)
-        m = re.search(r"listening on http://127\.0\.0\.1:(\d+)$", line)
-        if not m:
-            self.kill()
-            raise RuntimeError("%s: startup line %r" % (name, line))
-        self.port = int(m.group(1))
-
-    def status(self, key):
-        """A /proc/PID/status figure in kB (VmRSS, VmHWM, VmSize)."""
-        with open("/proc/%d/status" % self.proc.pid) as f:
-            for line in f:
-                if line.startswith(key + ":"):
-                    return int(line.split()[1])
-        return -1
-
-    def stderr(self):
-        with open(self.err_path, "rb") as f:
-            return f.read().decode("utf-8", "replace")
+        super().__init__(os.path.join(build, "tocherd"), os.path.join(tmp, name + ".stderr"),
+                         env={"TOCHER_" + k.upper(): str(v) for k, v in env.items()})
 
     def connect(self, source="127.0.0.1", timeout=10):
         return socket.create_connection(("127.0.0.1", self.port), timeout=timeout, source_address=(source, 0))
-
-    def kill(self):
-        if self.proc.poll() is None:
-            self.proc.kill()
-        self.proc.wait()
 
 
 def read_all(s, timeout):

@@ -16,7 +16,7 @@ import tempfile
 import threading
 import time
 
-from tochertest import SAN_RE, check, first_line, say
+from tochertest import SAN_RE, Tocherd, check, say
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 JSON_H = {"Content-Type": "application/json"}
@@ -36,37 +36,15 @@ def is_san(build):
     return os.path.basename(os.path.normpath(build)).endswith("san")
 
 
-class Daemon:
-    """One tocherd on 127.0.0.1:0 with the given flags; stderr to a file."""
+class Daemon(Tocherd):
+    """One tocherd with the given flags, stderr in TMP; killed at exit. started: whether it came up."""
 
     def __init__(self, build, name, *flags):
-        self.err_path = os.path.join(TMP, name + ".stderr")
-        env = {k: v for k, v in os.environ.items() if not k.startswith("TOCHER_") or k == "TOCHER_IMAGE_LIB"}
-        with open(self.err_path, "wb") as errf:
-            self.proc = subprocess.Popen([os.path.join(build, "tocherd"), "--listen", "127.0.0.1:0", *flags],
-                                         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=errf, env=env)
+        super().__init__(os.path.join(build, "tocherd"), os.path.join(TMP, name + ".stderr"), flags, strict=False)
         DAEMONS.append(self)
-        line = first_line(self.proc, 30)
-        m = re.fullmatch(r"tocherd \S+ listening on http://127\.0\.0\.1:(\d+)", line)
-        self.port = int(m.group(1)) if m else None
-        self.started = m is not None
-
-    def stderr(self):
-        try:
-            with open(self.err_path, "rb") as f:
-                return f.read().decode("utf-8", "replace")
-        except OSError:
-            return ""
 
     def stop(self, timeout=60):
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGTERM)
-        try:
-            return self.proc.wait(timeout)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.proc.wait()
-            return None
+        return super().stop(timeout)
 
 
 def _kill_all():
@@ -341,12 +319,14 @@ def sigterm(build, name, rounds, clients, render_s):
     sent = 0
     bad = []
     exits = []
+    body = None  # calibrated on the first daemon that starts
     for k in range(rounds):
         d = Daemon(build, "%s-%d" % (name, k), "--render-threads", "1")
         if not d.started:
             bad.append("daemon %d did not start" % k)
             continue
-        body, _ = calibrate_render(d.port, render_s) if k == 0 else (body, 0)
+        if body is None:
+            body, _ = calibrate_render(d.port, render_s)
         stop = threading.Event()
         lock = threading.Lock()
         counts = {"sent": 0}
