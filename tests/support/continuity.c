@@ -39,9 +39,7 @@ void recon_scales(const tc_recon *r, double *vs, double *gs) {
 
 static const double S[] = {0.0, 0.137, 0.5, 0.771, 1.0};
 
-/* Worst relative mismatch of value (and gradient if want_grad) between the
- * pieces of t and its neighbour along their shared edge k. */
-static void edge_residual(const tc_recon *r, int32_t t, int k, double vs, double gs, double *rv, double *rg) {
+void edge_residual(const tc_recon *r, int32_t t, int k, double vs, double gs, double *rv, double *rg) {
     const tc_mesh *m = tc_recon_mesh(r);
     int nc = tc_mesh_channel_count(m);
     const int32_t *tri = tc_mesh_triangles(m);

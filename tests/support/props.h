@@ -15,6 +15,9 @@ void recon_scales(const tc_recon *r, double *vs, double *gs);
  * relative residual <= tol; fills rep with the worst residuals. */
 void check_continuity(const tc_recon *r, const tmesh *g, double tol, cont_report *rep);
 void random_flagged_mesh(tmesh *g, trng *r, int delaunay, int n);
+/* Worst mismatch of value (over vs) and gradient (over gs) between the pieces of
+ * t and its neighbour along their shared edge k, at five points along it. */
+void edge_residual(const tc_recon *r, int32_t t, int k, double vs, double gs, double *rv, double *rg);
 
 /* The smooth function the convergence tests refine on, with its gradient. */
 void wave_f(const void *ctx, double x, double y, int ch, double *v, double g[2]);

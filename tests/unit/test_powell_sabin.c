@@ -181,25 +181,8 @@ TEST(ps_split_points_wild_pairs) {
 
 typedef struct { double corner, plane, c0, c1, vertex, internal; } ps_report;
 
+/* Fractions along a segment where the residual checks sample it. */
 static const double S[] = {0.0, 0.137, 0.5, 0.771, 1.0};
-
-/* Value and gradient mismatch of t and its neighbour along edge k. */
-static void edge_residual(const tc_recon *r, const tmesh *g, int32_t t, int k, double vs, double gs, double *rv,
-                          double *rg) {
-    int nc = g->nc;
-    int32_t t2 = g->enbr[3 * t + k];
-    const double *a = gxy(g, t, k), *b = gxy(g, t, k + 1);
-    for (size_t i = 0; i < sizeof S / sizeof S[0]; i++) {
-        double x = a[0] + S[i] * (b[0] - a[0]), y = a[1] + S[i] * (b[1] - a[1]);
-        double v1[TC_MAX_CHANNELS], v2[TC_MAX_CHANNELS], g1[2 * TC_MAX_CHANNELS], g2[2 * TC_MAX_CHANNELS];
-        tc_eval_triangle(r, t, x, y, v1, g1);
-        tc_eval_triangle(r, t2, x, y, v2, g2);
-        for (int ch = 0; ch < nc; ch++) {
-            *rv = fmax(*rv, fabs(v1[ch] - v2[ch]) / vs);
-            *rg = fmax(*rg, hypot(g1[2 * ch] - g2[2 * ch], g1[2 * ch + 1] - g2[2 * ch + 1]) / gs);
-        }
-    }
-}
 
 /* At every corner: the value is the corner's, the gradient its wedge plane. */
 static void corner_residuals(const tc_recon *r, const tmesh *g, double vs, double gs, ps_report *rep) {
@@ -280,7 +263,7 @@ static void ps_continuity(const tc_recon *r, const tmesh *g, double tol, ps_repo
             int32_t t2 = g->enbr[3 * t + k];
             if (t2 < t || g->eflag[3 * t + k] == TC_CM1) continue;
             double rv = 0, rg = 0;
-            edge_residual(r, g, t, k, vs, gs, &rv, &rg);
+            edge_residual(r, t, k, vs, gs, &rv, &rg);
             rep->c0 = fmax(rep->c0, rv);
             rep->c1 = fmax(rep->c1, rg);
             rep->vertex = fmax(rep->vertex, vertex_residual(r, g, t, k, gs));
