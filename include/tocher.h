@@ -383,6 +383,9 @@ typedef struct {
     int threads;              /* worker threads; <= 1 renders on the caller's thread */
     double deadline_ms;       /* tc_now_ms() after which rendering stops with
                                * TC_ETIMEOUT; 0 = none */
+    int32_t row0, rows;       /* only rows [row0, row0 + rows) of the viewport (rows 0: to
+                               * the last row), stored from row 0 of values and owner; each
+                               * pixel as the whole tile's, so a tile may be rendered in bands */
 } tc_render_options;
 
 /* Milliseconds of CLOCK_MONOTONIC: the clock of deadline_ms (and of every timing). */
@@ -407,6 +410,10 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
  * and keep C-1; constant is C-1 across every edge (red). Hermite does not draw
  * the quads' diagonals (inside a patch). */
 void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, float *values);
+/* The same over rows [row0, row0 + rows) of the viewport only, values holding those
+ * rows from its row 0 (a band rendered with tc_render_options.row0/rows). */
+void tc_render_overlay_rows(const tc_recon *r, const tc_viewport *vp, double scale, int32_t row0, int32_t rows,
+                            float *values);
 
 /* ---- error against a reference -------------------------------------------- */
 

@@ -29,6 +29,7 @@ typedef struct {
     float *values;
     int32_t *owner;
     const double *xs; /* [width] pixel-centre x of each column, as tc_viewport_pixel_center gives it */
+    int32_t row0, rows; /* the rows rendered: [row0, row0 + rows) of vp, stored from values/owner's row 0 */
     int32_t nbands;
     atomic_int next_band;
     atomic_int timed_out;
@@ -57,7 +58,7 @@ static int claim(const band *bd, const struct tc__slot *s, int32_t i, int32_t j,
     const tc_viewport *vp = bd->jb->vp;
     int hit = tc__slot_test(s, bd->jb->xs[i], y);
     if (hit == TC_SLOT_OUT) return hit;
-    int32_t *slot = &bd->jb->owner[tc__ix(j, vp->width, i)];
+    int32_t *slot = &bd->jb->owner[tc__ix(j - bd->jb->row0, vp->width, i)];
     if (hit == TC_SLOT_OWN) *slot = s->t;
     else if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
     return hit;
@@ -111,7 +112,7 @@ static void cover_row(const band *bd, const struct tc__slot *s, int32_t j, int32
     if (b == a) hb = ha;
     for (int32_t i = a - 1; i >= i0 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i--) {}
     for (int32_t i = b + 1; i <= i1 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i++) {}
-    int32_t *row = bd->jb->owner + (size_t)j * (size_t)vp->width;
+    int32_t *row = bd->jb->owner + (size_t)(j - bd->jb->row0) * (size_t)vp->width;
     for (int32_t i = a + 1; i < b; i++) {
         if (ha == TC_SLOT_OWN && hb == TC_SLOT_OWN) row[i] = s->t;
         else claim(bd, s, i, j, y);
@@ -186,7 +187,7 @@ static void shade_band(const band *bd) {
     for (int32_t j = bd->j0; j < bd->j1; j++) {
         double x, y;
         tc_viewport_pixel_center(vp, 0, j, &x, &y);
-        size_t row = (size_t)j * (size_t)vp->width;
+        size_t row = (size_t)(j - jb->row0) * (size_t)vp->width;
         for (int32_t i = 0; i < vp->width;) {
             int32_t t = settle(jb->owner, row + (size_t)i), e = i + 1;
             while (e < vp->width && settle(jb->owner, row + (size_t)e) == t) e++;
@@ -206,9 +207,11 @@ static void shade_band(const band *bd) {
 
 static void render_band(job *jb, int32_t b) {
     const tc_viewport *vp = jb->vp;
-    band bd = {jb, b * BAND_ROWS, (b + 1) * BAND_ROWS};
-    if (bd.j1 > vp->height) bd.j1 = vp->height;
-    for (size_t p = (size_t)bd.j0 * (size_t)vp->width; p < (size_t)bd.j1 * (size_t)vp->width; p++) jb->owner[p] = -1;
+    band bd = {jb, jb->row0 + b * BAND_ROWS, jb->row0 + (b + 1) * BAND_ROWS};
+    if (bd.j1 > jb->row0 + jb->rows) bd.j1 = jb->row0 + jb->rows;
+    for (size_t p = (size_t)(bd.j0 - jb->row0) * (size_t)vp->width; p < (size_t)(bd.j1 - jb->row0) * (size_t)vp->width;
+         p++)
+        jb->owner[p] = -1;
     double xa, ya, xb, yb, lo[2], hi[2];
     tc_viewport_pixel_center(vp, 0, bd.j1 - 1, &xa, &ya);
     tc_viewport_pixel_center(vp, vp->width - 1, bd.j0, &xb, &yb);
@@ -249,9 +252,13 @@ static void run_threads(job *jb, int n) {
 
 int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, const tc_render_options *ropt,
               float *values, int32_t *owner) {
-    static const tc_render_options defaults = {NULL, 1, 0};
-    if (!valid_viewport(vp)) return TC_EINVAL;
-    int32_t *own = owner ? owner : tc__malloc((size_t)vp->width * (size_t)vp->height, sizeof *own);
+    static const tc_render_options defaults = {NULL, 1, 0, 0, 0};
+    if (!ropt) ropt = &defaults;
+    if (!valid_viewport(vp) || ropt->row0 < 0 || ropt->rows < 0 || ropt->row0 >= vp->height ||
+        ropt->rows > vp->height - ropt->row0)
+        return TC_EINVAL;
+    int32_t rows = ropt->rows ? ropt->rows : vp->height - ropt->row0;
+    int32_t *own = owner ? owner : tc__malloc((size_t)vp->width * (size_t)rows, sizeof *own);
     double *xs = tc__malloc((size_t)vp->width, sizeof *xs);
     if (!own || !xs) {
         if (!owner) free(own);
@@ -262,7 +269,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
         double unused;
         tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
     }
-    job jb = {r, L, vp, ropt ? ropt : &defaults, values, own, xs, (vp->height + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
+    job jb = {r, L, vp, ropt, values, own, xs, ropt->row0, rows, (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     if (!owner) free(own);
     free(xs);
@@ -278,20 +285,29 @@ static void overlay_colour(tc_continuity kind, int boundary, int nc, double scal
     for (int ch = 0; ch < nc; ch++) c[ch] = (float)(scale * (nc == 3 ? rgb[k][ch] : grey[k]));
 }
 
-/* A one-pixel line between two points in pixel coordinates (DDA), clipped. */
-static void draw_line(const tc_viewport *vp, int nc, const float *c, double ax, double ay, double bx, double by,
-                      float *values) {
+/* A one-pixel line between two points in pixel coordinates (DDA), clipped to
+ * the rows [row0, row0 + rows) that values holds from its row 0. Each pixel is
+ * the same whichever rows are drawn: a band's line is the whole tile's line. */
+static void draw_line(const tc_viewport *vp, int32_t row0, int32_t rows, int nc, const float *c, double ax,
+                      double ay, double bx, double by, float *values) {
+    if (floor(fmax(ay, by) + 0.5) < row0 || floor(fmin(ay, by) + 0.5) >= row0 + rows) return; /* not in the band */
     double n = ceil(fmax(fabs(bx - ax), fabs(by - ay)));
     if (!(n < 1e7)) return; /* an edge far outside the tile: skip rather than walk it */
     for (double k = 0; k <= n; k++) {
         double f = n > 0 ? k / n : 0;
         double px = floor(ax + f * (bx - ax) + 0.5), py = floor(ay + f * (by - ay) + 0.5);
-        if (px < 0 || py < 0 || px >= vp->width || py >= vp->height) continue;
-        memcpy(values + ((size_t)py * (size_t)vp->width + (size_t)px) * (size_t)nc, c, (size_t)nc * sizeof *c);
+        if (px < 0 || py < row0 || px >= vp->width || py >= row0 + rows) continue;
+        memcpy(values + ((size_t)(py - row0) * (size_t)vp->width + (size_t)px) * (size_t)nc, c,
+               (size_t)nc * sizeof *c);
     }
 }
 
 void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, float *values) {
+    tc_render_overlay_rows(r, vp, scale, 0, vp->height, values);
+}
+
+void tc_render_overlay_rows(const tc_recon *r, const tc_viewport *vp, double scale, int32_t row0, int32_t rows,
+                            float *values) {
     const struct tc_mesh *m = r->m;
     const tc__method *mt = r->method;
     float c[TC_MAX_CHANNELS];
@@ -301,7 +317,7 @@ void tc_render_overlay(const tc_recon *r, const tc_viewport *vp, double scale, f
         if (mt->quads_only && tc__is_diagonal(m, e)) continue; /* inside a patch: not an edge of it */
         const double *a = tc__vxy(m, m->tri[e]), *b = tc__vxy(m, m->tri[3 * (e / 3) + (e % 3 + 1) % 3]);
         overlay_colour((tc_continuity)tc__method_edge(mt, m, e), m->nbr[e] < 0, m->nc, scale, c);
-        draw_line(vp, m->nc, c, (a[0] - vp->x0) * sx - 0.5, (vp->y1 - a[1]) * sy - 0.5, (b[0] - vp->x0) * sx - 0.5,
+        draw_line(vp, row0, rows, m->nc, c, (a[0] - vp->x0) * sx - 0.5, (vp->y1 - a[1]) * sy - 0.5, (b[0] - vp->x0) * sx - 0.5,
                   (vp->y1 - b[1]) * sy - 0.5, values);
     }
 }

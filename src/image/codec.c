@@ -42,11 +42,11 @@ static int check_traits(const tc_img *im, tc_img_format f, char *err, size_t err
     return 0;
 }
 
-/* Checks everything both encoders rely on, so a bad request fails here without
- * loading OpenImageIO. */
-static int check_image(const tc_img *im, tc_img_format f, char *err, size_t errlen) {
+/* Checks everything both encoders rely on but the samples, so a bad request
+ * fails here without loading OpenImageIO. */
+static int check_header(const tc_img *im, tc_img_format f, char *err, size_t errlen) {
     if (!tc_img_traits_of(f)) return set_err(err, errlen, "unknown image format %d", (int)f), -1;
-    if (!im || !im->pixels) return set_err(err, errlen, "no pixels to encode"), -1;
+    if (!im) return set_err(err, errlen, "no image"), -1;
     if (im->width < 1 || im->height < 1)
         return set_err(err, errlen, "image size %dx%d is empty", im->width, im->height), -1;
     if (im->channels < 1 || im->channels > TC_IMG_MAX_CHANNELS)
@@ -64,27 +64,90 @@ static void put_le32(unsigned char *p, float v) {
     p[2] = (unsigned char)(u >> 16), p[3] = (unsigned char)(u >> 24);
 }
 
-/* Little-endian float32 samples, [height][width][channels], no alpha, no header:
- * the one format written without the plugin (its row's `plugin` is 0). */
-static int encode_raw(const tc_img *im, unsigned char **out, size_t *len, char *err, size_t errlen) {
-    size_t n = (size_t)im->width * (size_t)im->height * (size_t)im->channels;
-    unsigned char *buf = malloc(n * 4);
-    if (!buf) return set_err(err, errlen, "out of memory for a %dx%d raw image", im->width, im->height), -1;
-    for (size_t i = 0; i < n; i++) put_le32(buf + 4 * i, im->pixels[i]);
-    *out = buf;
-    *len = n * 4;
+/* Invariants: rows_done <= header.height; raw != NULL iff the format is raw
+ * (written here, without the plugin: little-endian float32 samples,
+ * [height][width][channels], no alpha, no header), else stream is the plugin's. */
+struct tc_img_writer {
+    tc_img header; /* pixels NULL; alpha non-NULL iff the image has an alpha channel */
+    tc_img_format f;
+    int rows_done;
+    const tc_img_plugin_fns *fns;
+    void *stream;
+    unsigned char *raw; /* the whole file, allocated at open: it is the answer */
+    size_t raw_len;
+};
+
+int tc_img_writer_open(const tc_img *header, tc_img_format f, tc_img_writer **wp, char *err, size_t errlen) {
+    static const float has_alpha = 1;
+    *wp = NULL;
+    if (check_header(header, f, err, errlen) != 0) return -1;
+    tc_img_writer *w = calloc(1, sizeof *w);
+    if (!w) return set_err(err, errlen, "out of memory"), -1;
+    w->header = *header;
+    w->header.pixels = NULL;
+    w->header.alpha = header->alpha ? &has_alpha : NULL;
+    w->f = f;
+    if (!tc_img_traits_of(f)->plugin) {
+        w->raw_len = (size_t)header->width * (size_t)header->height * (size_t)header->channels * 4;
+        w->raw = malloc(w->raw_len + 1);
+        if (!w->raw) return free(w), set_err(err, errlen, "out of memory for a %dx%d raw image", header->width,
+                                            header->height), -1;
+    } else if (!(w->fns = tc__img_plugin(err, errlen)) ||
+               !(w->stream = w->fns->open(&w->header, f, err, errlen))) {
+        return free(w), -1;
+    }
+    *wp = w;
     return 0;
+}
+
+int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha, int rows, char *err,
+                       size_t errlen) {
+    const tc_img *h = &w->header;
+    if (!pixels || rows < 1 || rows > h->height - w->rows_done || (!alpha != !h->alpha))
+        return set_err(err, errlen, "rows %d..%d of a %d-row image (alpha %s) cannot be written", w->rows_done,
+                       w->rows_done + rows, h->height, h->alpha ? "expected" : "not expected"), -1;
+    size_t n = (size_t)rows * (size_t)h->width * (size_t)h->channels;
+    if (w->raw) {
+        unsigned char *at = w->raw + (size_t)w->rows_done * (size_t)h->width * (size_t)h->channels * 4;
+        for (size_t i = 0; i < n; i++) put_le32(at + 4 * i, pixels[i]);
+    } else {
+        tc_img band = *h;
+        band.height = rows, band.pixels = pixels, band.alpha = alpha;
+        if (w->fns->rows(w->stream, &band, err, errlen) != 0) return -1;
+    }
+    w->rows_done += rows;
+    return 0;
+}
+
+int tc_img_writer_finish(tc_img_writer *w, unsigned char **out, size_t *len, size_t *cap, char *err, size_t errlen) {
+    *out = NULL, *len = *cap = 0;
+    if (w->rows_done != w->header.height)
+        return set_err(err, errlen, "only %d of %d rows written", w->rows_done, w->header.height), -1;
+    if (!w->raw) return w->fns->finish(w->stream, out, len, cap, err, errlen);
+    *out = w->raw, *len = w->raw_len, *cap = w->raw_len + 1;
+    w->raw = NULL;
+    return 0;
+}
+
+void tc_img_writer_free(tc_img_writer *w) {
+    if (!w) return;
+    if (w->stream) w->fns->free(w->stream);
+    free(w->raw);
+    free(w);
 }
 
 int tc_img_encode(const tc_img *im, tc_img_format f, unsigned char **out, size_t *len, char *err, size_t errlen) {
     if (!out || !len) return set_err(err, errlen, "no output buffer"), -1;
     *out = NULL;
     *len = 0;
-    if (check_image(im, f, err, errlen) != 0) return -1;
-    if (!tc_img_traits_of(f)->plugin) return encode_raw(im, out, len, err, errlen);
-    tc_img_encode_impl_fn encode;
-    if (tc__img_plugin(&encode, NULL, err, errlen) != 0) return -1;
-    return encode(im, f, out, len, err, errlen);
+    if (!im || !im->pixels) return set_err(err, errlen, "no pixels to encode"), -1;
+    tc_img_writer *w;
+    size_t cap;
+    if (tc_img_writer_open(im, f, &w, err, errlen) != 0) return -1;
+    int rc = tc_img_writer_rows(w, im->pixels, im->alpha, im->height, err, errlen);
+    if (rc == 0) rc = tc_img_writer_finish(w, out, len, &cap, err, errlen);
+    tc_img_writer_free(w);
+    return rc;
 }
 
 /* Both encoders hand out malloc()ed memory. */
@@ -95,9 +158,8 @@ void tc_img_free(unsigned char *p) { free(p); }
 int tc_img_decode(const unsigned char *data, size_t len, tc_img_decoded *out, char *err, size_t errlen) {
     if (!out) return set_err(err, errlen, "no output"), -1;
     memset(out, 0, sizeof *out);
-    tc_img_decode_impl_fn decode;
-    if (tc__img_plugin(NULL, &decode, err, errlen) != 0) return -1;
-    return decode(data, len, out, err, errlen);
+    const tc_img_plugin_fns *fns = tc__img_plugin(err, errlen);
+    return fns ? fns->decode(data, len, out, err, errlen) : -1;
 }
 
 void tc_img_decoded_free(tc_img_decoded *d) {

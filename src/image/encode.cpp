@@ -37,7 +37,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <exception>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -80,34 +82,34 @@ double quantize(double x, double maxval) {
     return std::floor(x * maxval + 0.5);
 }
 
-// Interleaves the converted samples (plus alpha) as T: [h][w][channels (+1)].
-template <class T> std::vector<T> png_samples(const tc_img *im, double maxval) {
-    const int nc = im->channels, out_nc = nc + (im->alpha ? 1 : 0);
-    const double scale = std::exp2(im->exposure);
-    const size_t n = npixels(im);
-    std::vector<T> out(n * (size_t)out_nc);
+// Interleaves the converted samples of a band (plus alpha) as T into out:
+// [rows][w][channels (+1)].
+template <class T> void png_samples(const tc_img *band, double maxval, std::vector<T> &out) {
+    const int nc = band->channels, out_nc = nc + (band->alpha ? 1 : 0);
+    const double scale = std::exp2(band->exposure);
+    const size_t n = npixels(band);
+    out.resize(n * (size_t)out_nc);
     for (size_t p = 0; p < n; p++) {
         for (int c = 0; c < nc; c++) {
-            double x = (double)im->pixels[p * (size_t)nc + (size_t)c] * scale;
-            if (!im->linear) x = srgb_encode(x);
+            double x = (double)band->pixels[p * (size_t)nc + (size_t)c] * scale;
+            if (!band->linear) x = srgb_encode(x);
             out[p * (size_t)out_nc + (size_t)c] = (T)quantize(x, maxval);
         }
-        if (im->alpha) out[p * (size_t)out_nc + (size_t)nc] = (T)quantize(im->alpha[p], maxval);
+        if (band->alpha) out[p * (size_t)out_nc + (size_t)nc] = (T)quantize(band->alpha[p], maxval);
     }
-    return out;
 }
 
 // ---- float formats: the samples as given, alpha appended when there is one ----------
 
-// Returns im->pixels itself when there is no alpha; else fills `buf` with
-// [h][w][channels + 1] and returns it.
-const float *float_samples(const tc_img *im, std::vector<float> &buf) {
-    if (!im->alpha) return im->pixels;
-    const size_t n = npixels(im), nc = (size_t)im->channels;
+// Returns band->pixels itself when there is no alpha; else fills `buf` with
+// [rows][w][channels + 1] and returns it.
+const float *float_samples(const tc_img *band, std::vector<float> &buf) {
+    if (!band->alpha) return band->pixels;
+    const size_t n = npixels(band), nc = (size_t)band->channels;
     buf.resize(n * (nc + 1));
     for (size_t p = 0; p < n; p++) {
-        std::memcpy(&buf[p * (nc + 1)], &im->pixels[p * nc], nc * sizeof(float));
-        buf[p * (nc + 1) + nc] = im->alpha[p];
+        std::memcpy(&buf[p * (nc + 1)], &band->pixels[p * nc], nc * sizeof(float));
+        buf[p * (nc + 1) + nc] = band->alpha[p];
     }
     return buf.data();
 }
@@ -147,74 +149,154 @@ ImageSpec base_spec(const tc_img *im, TypeDesc stored) {
     return spec;
 }
 
-// ---- writing through OpenImageIO into memory ------------------------------------
-
-// Writes one image of `data` (samples of type `given`) with `spec` as format `ext`
-// into `bytes`, through an in-memory proxy (no temporary file).
-void write_memory(const char *ext, const ImageSpec &spec, TypeDesc given, const void *data,
-                  std::vector<unsigned char> &bytes) {
-    OIIO::Filesystem::IOVecOutput proxy(bytes);
-    auto out = ImageOutput::create(ext, &proxy);
-    if (!out)
-        throw Failure{std::string("no OpenImageIO writer for ") + ext + ": " + oiio_error<ImageOutput>(nullptr, "?")};
-    if (!out->open(std::string("tile.") + ext, spec))
-        throw Failure{std::string(ext) + ": " + oiio_error(out.get(), "cannot open the in-memory output")};
-    if (!out->write_image(given, data)) {
-        std::string e = oiio_error(out.get(), "write failed");
-        out->close();
-        throw Failure{std::string(ext) + ": " + e};
-    }
-    if (!out->close()) throw Failure{std::string(ext) + ": " + oiio_error(out.get(), "close failed")};
-}
-
-void encode_png(const tc_img *im, bool sixteen, std::vector<unsigned char> &bytes) {
-    ImageSpec spec = base_spec(im, sixteen ? TypeDesc::UINT16 : TypeDesc::UINT8);
-    // Tags the file (sRGB chunk, or gAMA 1.0) with the transfer we applied.
-    spec.attribute("oiio:ColorSpace", im->linear ? "Linear" : "sRGB");
-    if (sixteen) {
-        std::vector<uint16_t> s = png_samples<uint16_t>(im, 65535.0);
-        write_memory("png", spec, TypeDesc::UINT16, s.data(), bytes);
-    } else {
-        std::vector<uint8_t> s = png_samples<uint8_t>(im, 255.0);
-        write_memory("png", spec, TypeDesc::UINT8, s.data(), bytes);
-    }
-}
-
-void encode_exr(const tc_img *im, bool half, std::vector<unsigned char> &bytes) {
-    ImageSpec spec = base_spec(im, half ? TypeDesc::HALF : TypeDesc::FLOAT);
-    spec.attribute("compression", half ? "zip" : "piz"); // see the measurements above
-    std::vector<float> buf;
-    write_memory("exr", spec, TypeDesc::FLOAT, float_samples(im, buf), bytes);
-}
-
-void encode_tiff(const tc_img *im, std::vector<unsigned char> &bytes) {
-    ImageSpec spec = base_spec(im, TypeDesc::FLOAT);
-    spec.attribute("compression", "zip");
-    std::vector<float> buf;
-    write_memory("tif", spec, TypeDesc::FLOAT, float_samples(im, buf), bytes);
-}
-
-// Every format of the table (format.h) has a case, and there is no default: a format
-// added to the enum without one here fails to compile (-Wswitch, -Werror).
-void encode_any(const tc_img *im, tc_img_format f, std::vector<unsigned char> &bytes) {
+// Each format's spec: stored sample type, compression and colour tags (the
+// compression choices are measured at the top of this file).
+ImageSpec format_spec(const tc_img *im, tc_img_format f) {
     switch (f) {
-    case TC_IMG_PNG: return encode_png(im, false, bytes);
-    case TC_IMG_PNG16: return encode_png(im, true, bytes);
-    case TC_IMG_EXR: return encode_exr(im, false, bytes);
-    case TC_IMG_EXR_HALF: return encode_exr(im, true, bytes);
-    case TC_IMG_TIFF: return encode_tiff(im, bytes);
+    case TC_IMG_PNG:
+    case TC_IMG_PNG16: {
+        ImageSpec spec = base_spec(im, f == TC_IMG_PNG16 ? TypeDesc::UINT16 : TypeDesc::UINT8);
+        // Tags the file (sRGB chunk, or gAMA 1.0) with the transfer we applied.
+        spec.attribute("oiio:ColorSpace", im->linear ? "Linear" : "sRGB");
+        return spec;
+    }
+    case TC_IMG_EXR:
+    case TC_IMG_EXR_HALF: {
+        ImageSpec spec = base_spec(im, f == TC_IMG_EXR_HALF ? TypeDesc::HALF : TypeDesc::FLOAT);
+        spec.attribute("compression", f == TC_IMG_EXR_HALF ? "zip" : "piz");
+        return spec;
+    }
+    case TC_IMG_TIFF: {
+        ImageSpec spec = base_spec(im, TypeDesc::FLOAT);
+        spec.attribute("compression", "zip");
+        return spec;
+    }
     case TC_IMG_RAW:      // written in C (codec.c), never handed here
     case TC_IMG_NFORMATS: break;
     }
+    // Every format of the table (format.h) has a case above, and there is no default: a
+    // format added to the enum without one fails to compile (-Wswitch, -Werror).
     throw Failure{"the image plugin does not encode this format"};
 }
 
-// A malloc()ed copy (never empty), so that C frees it with free().
-unsigned char *malloc_copy(const std::vector<unsigned char> &v) {
-    unsigned char *p = (unsigned char *)std::malloc(v.empty() ? 1 : v.size());
-    if (!p) throw Failure{"out of memory"};
-    if (!v.empty()) std::memcpy(p, v.data(), v.size());
-    return p;
+const char *extension(tc_img_format f) {
+    return f == TC_IMG_TIFF ? "tif" : f == TC_IMG_EXR || f == TC_IMG_EXR_HALF ? "exr" : "png";
+}
+
+// ---- writing through OpenImageIO into memory ------------------------------------
+
+// An output proxy that writes into one malloc()ed buffer grown with realloc, so
+// the finished file is handed to the caller as it is (no copy: the answer is
+// held once). Large blocks grow in place or by remapping (glibc's mremap), and
+// capacity not yet written is never touched, so it costs no resident memory.
+// Invariant: len <= cap, and cap > len once anything is written (room for a NUL).
+class MallocOutput : public OIIO::Filesystem::IOProxy {
+  public:
+    MallocOutput() : IOProxy("", Write) {}
+    ~MallocOutput() override { std::free(m_data); }
+    const char *proxytype() const override { return "tocher-malloc"; }
+    size_t write(const void *buf, size_t size) override {
+        size_t n = pwrite(buf, size, m_pos);
+        m_pos += (int64_t)n;
+        return n;
+    }
+    size_t pwrite(const void *buf, size_t size, int64_t offset) override {
+        if (offset < 0 || !reserve((size_t)offset + size + 1)) return 0;
+        if ((size_t)offset > m_len) std::memset(m_data + m_len, 0, (size_t)offset - m_len);
+        std::memcpy(m_data + offset, buf, size);
+        if ((size_t)offset + size > m_len) m_len = (size_t)offset + size;
+        return size;
+    }
+    size_t pread(void *buf, size_t size, int64_t offset) override {
+        if (offset < 0 || (size_t)offset >= m_len) return 0;
+        size_t n = std::min(size, m_len - (size_t)offset);
+        std::memcpy(buf, m_data + offset, n);
+        return n;
+    }
+    size_t read(void *buf, size_t size) override {
+        size_t n = pread(buf, size, m_pos);
+        m_pos += (int64_t)n;
+        return n;
+    }
+    size_t size() const override { return m_len; }
+    // Hands the bytes over: the caller frees them; the proxy is empty after.
+    unsigned char *release(size_t *len, size_t *cap) {
+        if (!reserve(m_len + 1)) throw Failure{"out of memory"};
+        unsigned char *p = m_data;
+        *len = m_len, *cap = m_cap;
+        m_data = nullptr, m_len = m_cap = 0;
+        return p;
+    }
+
+  private:
+    bool reserve(size_t need) {
+        if (need <= m_cap) return true;
+        size_t cap = std::max(need, m_cap < 4096 ? (size_t)4096 : m_cap + m_cap / 2);
+        unsigned char *p = (unsigned char *)std::realloc(m_data, cap);
+        if (!p) return false;
+        m_data = p, m_cap = cap;
+        return true;
+    }
+    unsigned char *m_data = nullptr;
+    size_t m_len = 0, m_cap = 0;
+};
+
+// One image being written: the proxy that holds its bytes, the OpenImageIO
+// writer, and the conversion scratch for one band (the only per-band memory).
+struct Stream {
+    tc_img header;
+    tc_img_format f;
+    int y = 0; // the next row
+    MallocOutput proxy;
+    std::unique_ptr<ImageOutput> out;
+    std::vector<uint8_t> s8;
+    std::vector<uint16_t> s16;
+    std::vector<float> sf;
+};
+
+void stream_open(Stream &s) {
+    const char *ext = extension(s.f);
+    ImageSpec spec = format_spec(&s.header, s.f);
+    s.out = ImageOutput::create(ext, &s.proxy);
+    if (!s.out)
+        throw Failure{std::string("no OpenImageIO writer for ") + ext + ": " + oiio_error<ImageOutput>(nullptr, "?")};
+    if (!s.out->open(std::string("tile.") + ext, spec))
+        throw Failure{std::string(ext) + ": " + oiio_error(s.out.get(), "cannot open the in-memory output")};
+}
+
+void stream_rows(Stream &s, const tc_img *band) {
+    const void *data;
+    TypeDesc given;
+    if (s.f == TC_IMG_PNG) png_samples<uint8_t>(band, 255.0, s.s8), data = s.s8.data(), given = TypeDesc::UINT8;
+    else if (s.f == TC_IMG_PNG16)
+        png_samples<uint16_t>(band, 65535.0, s.s16), data = s.s16.data(), given = TypeDesc::UINT16;
+    else data = float_samples(band, s.sf), given = TypeDesc::FLOAT;
+    if (!s.out->write_scanlines(s.y, s.y + band->height, 0, given, data))
+        throw Failure{std::string(extension(s.f)) + ": " + oiio_error(s.out.get(), "write failed")};
+    s.y += band->height;
+}
+
+unsigned char *stream_finish(Stream &s, size_t *len, size_t *cap) {
+    bool ok = s.out->close();
+    std::string e = ok ? "" : oiio_error(s.out.get(), "close failed");
+    s.out.reset();
+    if (!ok) throw Failure{std::string(extension(s.f)) + ": " + e};
+    return s.proxy.release(len, cap);
+}
+
+// Runs f, turning any exception into -1 and a message in err.
+template <class F> int guarded(const char *what, char *err, size_t errlen, F f) {
+    try {
+        f();
+        return 0;
+    } catch (const Failure &e) {
+        set_err(err, errlen, e.msg);
+    } catch (const std::exception &e) {
+        set_err(err, errlen, std::string("image ") + what + " failed: " + e.what());
+    } catch (...) {
+        set_err(err, errlen, std::string("image ") + what + " failed");
+    }
+    return -1;
 }
 
 // ---- decoding (tests) -------------------------------------------------------------
@@ -278,25 +360,34 @@ void decode_any(const unsigned char *data, size_t len, tc_img_decoded *out) {
 
 TC_EXPORT int tc_img_plugin_abi(void) { return TC_IMG_PLUGIN_ABI; }
 
-TC_EXPORT int tc_img_encode_impl(const tc_img *im, tc_img_format f, unsigned char **out, size_t *len, char *err,
-                                 size_t errlen) {
-    try {
-        if (!im || !im->pixels || !out || !len || im->width < 1 || im->height < 1 || im->channels < 1)
-            throw Failure{"invalid image"};
-        std::vector<unsigned char> bytes;
-        encode_any(im, f, bytes);
-        *out = malloc_copy(bytes);
-        *len = bytes.size();
-        return 0;
-    } catch (const Failure &e) {
-        set_err(err, errlen, e.msg);
-    } catch (const std::exception &e) {
-        set_err(err, errlen, std::string("image encoding failed: ") + e.what());
-    } catch (...) {
-        set_err(err, errlen, "image encoding failed");
-    }
-    return -1;
+TC_EXPORT void *tc_img_stream_open(const tc_img *header, tc_img_format f, char *err, size_t errlen) {
+    Stream *s = nullptr;
+    int rc = guarded("encoding", err, errlen, [&] {
+        if (!header || header->width < 1 || header->height < 1 || header->channels < 1) throw Failure{"invalid image"};
+        s = new Stream;
+        s->header = *header;
+        s->f = f;
+        stream_open(*s);
+    });
+    if (rc == 0) return s;
+    delete s;
+    return nullptr;
 }
+
+TC_EXPORT int tc_img_stream_rows(void *s, const tc_img *band, char *err, size_t errlen) {
+    return guarded("encoding", err, errlen, [&] {
+        Stream &st = *(Stream *)s;
+        if (!band->pixels || band->height < 1 || band->height > st.header.height - st.y) throw Failure{"invalid band"};
+        stream_rows(st, band);
+    });
+}
+
+TC_EXPORT int tc_img_stream_finish(void *s, unsigned char **out, size_t *len, size_t *cap, char *err,
+                                   size_t errlen) {
+    return guarded("encoding", err, errlen, [&] { *out = stream_finish(*(Stream *)s, len, cap); });
+}
+
+TC_EXPORT void tc_img_stream_free(void *s) { delete (Stream *)s; }
 
 TC_EXPORT int tc_img_decode_impl(const unsigned char *data, size_t len, tc_img_decoded *out, char *err,
                                  size_t errlen) {

@@ -10,12 +10,12 @@
 
 /* One row per tc_img_format; see tc_img_traits for what each field means. */
 static const tc_img_traits formats[TC_IMG_NFORMATS] = {
-    [TC_IMG_PNG] = {"png", "image/png", NULL, {".png"}, TC_IMG_CH(1) | TC_IMG_CH(3), TC_IMG_ALPHA_ALWAYS, 1, 1, 0},
-    [TC_IMG_PNG16] = {"png16", "image/png", NULL, {NULL}, TC_IMG_CH(1) | TC_IMG_CH(3), TC_IMG_ALPHA_ALWAYS, 1, 1, 0},
-    [TC_IMG_EXR] = {"exr", "image/x-exr", "image/exr", {".exr"}, TC_IMG_CH_ANY, TC_IMG_ALPHA_ALWAYS, 0, 1, FLT_MAX},
-    [TC_IMG_EXR_HALF] = {"exr-half", "image/x-exr", NULL, {NULL}, TC_IMG_CH_ANY, TC_IMG_ALPHA_ALWAYS, 0, 1, 65504},
-    [TC_IMG_TIFF] = {"tiff", "image/tiff", NULL, {".tif", ".tiff"}, TC_IMG_CH_ANY, TC_IMG_ALPHA_UNLESS_2, 0, 1, FLT_MAX},
-    [TC_IMG_RAW] = {"raw", "application/octet-stream", NULL, {".raw"}, TC_IMG_CH_ANY, TC_IMG_ALPHA_NONE, 0, 0, FLT_MAX},
+    [TC_IMG_PNG] = {"png", "image/png", NULL, {".png"}, TC_IMG_CH(1) | TC_IMG_CH(3), TC_IMG_ALPHA_ALWAYS, 1, 1, 0, 1},
+    [TC_IMG_PNG16] = {"png16", "image/png", NULL, {NULL}, TC_IMG_CH(1) | TC_IMG_CH(3), TC_IMG_ALPHA_ALWAYS, 1, 1, 0, 2},
+    [TC_IMG_EXR] = {"exr", "image/x-exr", "image/exr", {".exr"}, TC_IMG_CH_ANY, TC_IMG_ALPHA_ALWAYS, 0, 1, FLT_MAX, 4},
+    [TC_IMG_EXR_HALF] = {"exr-half", "image/x-exr", NULL, {NULL}, TC_IMG_CH_ANY, TC_IMG_ALPHA_ALWAYS, 0, 1, 65504, 2},
+    [TC_IMG_TIFF] = {"tiff", "image/tiff", NULL, {".tif", ".tiff"}, TC_IMG_CH_ANY, TC_IMG_ALPHA_UNLESS_2, 0, 1, FLT_MAX, 4},
+    [TC_IMG_RAW] = {"raw", "application/octet-stream", NULL, {".raw"}, TC_IMG_CH_ANY, TC_IMG_ALPHA_NONE, 0, 0, FLT_MAX, 4},
 };
 
 const tc_img_traits *tc_img_traits_of(tc_img_format f) {

@@ -56,6 +56,7 @@ typedef struct {
     int plugin;               /* encoded by the OpenImageIO plugin (else written in C, codec.c) */
     double max_sample;        /* linear formats: the largest |value| a sample holds (a value beyond is
                                * written as that, with a warning, api.c); 0 for display-referred ones */
+    int sample_bytes;         /* bytes of one stored sample (uncompressed) */
 } tc_img_traits;
 
 /* The row of format f, or NULL if f is not a format. */

@@ -27,6 +27,28 @@ typedef struct {
 int tc_img_encode(const tc_img *im, tc_img_format f, unsigned char **out, size_t *len, char *err, size_t errlen);
 void tc_img_free(unsigned char *p);
 
+/* ---- Writing an image band by band ----
+ * A tile that is rendered and encoded a band of rows at a time never holds
+ * all its samples at once: memory is the encoded bytes (grown in place) plus
+ * one band. tc_img_encode is this with a single band of every row.
+ *
+ *   tc_img_writer_open(header, f, &w, ...)     header: size, channels, exposure,
+ *                                              linear, and alpha != NULL when the
+ *                                              image has an alpha channel (pixels unused)
+ *   tc_img_writer_rows(w, pixels, alpha, n...) the next n rows, top to bottom,
+ *                                              [n][width][channels] (+ [n][width] alpha)
+ *   tc_img_writer_finish(w, &bytes, &len, &cap, ...) after every row: the file,
+ *                                              malloc()ed, cap > len bytes allocated
+ *   tc_img_writer_free(w)                      always, finished or not
+ * Each returns 0, or -1 with a message in err; after a failure only _free is
+ * meaningful. The bytes equal tc_img_encode's whatever the bands. */
+typedef struct tc_img_writer tc_img_writer;
+int tc_img_writer_open(const tc_img *header, tc_img_format f, tc_img_writer **w, char *err, size_t errlen);
+int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha, int rows, char *err,
+                       size_t errlen);
+int tc_img_writer_finish(tc_img_writer *w, unsigned char **out, size_t *len, size_t *cap, char *err, size_t errlen);
+void tc_img_writer_free(tc_img_writer *w);
+
 /* Loads the OpenImageIO part now (it is loaded on the first encode otherwise).
  * Returns 0, or -1 with the reason in err. */
 int tc_img_load(char *err, size_t errlen);
@@ -57,16 +79,30 @@ void tc_img_decoded_free(tc_img_decoded *d);
 /* The plugin's tc_img_plugin_abi() must return this: bump it whenever tc_img,
  * tc_img_decoded or the signatures below change, so a stale installed plugin is
  * refused instead of misreading the structs. */
-#define TC_IMG_PLUGIN_ABI 1
+#define TC_IMG_PLUGIN_ABI 2
 
 /* Resolved with dlsym (plugin.c). Inputs are already validated by codec.c
- * (dimensions, channel counts, formats the plugin writes); *out is malloc()ed, so tc_img_free
- * is free() whichever side produced it. */
+ * (dimensions, channel counts, formats the plugin writes, the rows' count), so
+ * the plugin only streams: open a writer for a header (pixels unused), write
+ * bands (a tc_img whose height is the band's rows), finish (the file malloc()ed,
+ * cap > len, so tc_img_free is free() whichever side produced it), free. */
 typedef int (*tc_img_plugin_abi_fn)(void);
-typedef int (*tc_img_encode_impl_fn)(const tc_img *im, tc_img_format f, unsigned char **out, size_t *len,
-                                     char *err, size_t errlen);
+typedef void *(*tc_img_stream_open_fn)(const tc_img *header, tc_img_format f, char *err, size_t errlen);
+typedef int (*tc_img_stream_rows_fn)(void *s, const tc_img *band, char *err, size_t errlen);
+typedef int (*tc_img_stream_finish_fn)(void *s, unsigned char **out, size_t *len, size_t *cap, char *err,
+                                       size_t errlen);
+typedef void (*tc_img_stream_free_fn)(void *s);
 typedef int (*tc_img_decode_impl_fn)(const unsigned char *data, size_t len, tc_img_decoded *out, char *err,
                                      size_t errlen);
+
+/* The plugin's entry points, resolved together. */
+typedef struct {
+    tc_img_stream_open_fn open;
+    tc_img_stream_rows_fn rows;
+    tc_img_stream_finish_fn finish;
+    tc_img_stream_free_fn free;
+    tc_img_decode_impl_fn decode;
+} tc_img_plugin_fns;
 
 #ifdef __cplusplus
 }

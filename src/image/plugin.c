@@ -28,8 +28,7 @@
 #define TC_IMG_PLUGIN_NAME "libtocher_image.so"
 
 static pthread_once_t plugin_once = PTHREAD_ONCE_INIT;
-static tc_img_encode_impl_fn plugin_encode;
-static tc_img_decode_impl_fn plugin_decode;
+static tc_img_plugin_fns plugin_fns;
 static atomic_int plugin_ok;
 static char plugin_error[4096]; /* why loading failed; written once under plugin_once */
 
@@ -51,16 +50,21 @@ static int try_plugin(const char *path, char *report, size_t cap) {
         return -1;
     }
     tc_img_plugin_abi_fn abi = (tc_img_plugin_abi_fn)dlsym(h, "tc_img_plugin_abi");
-    tc_img_encode_impl_fn enc = (tc_img_encode_impl_fn)dlsym(h, "tc_img_encode_impl");
-    tc_img_decode_impl_fn dec = (tc_img_decode_impl_fn)dlsym(h, "tc_img_decode_impl");
-    if (!abi || !enc || !dec || abi() != TC_IMG_PLUGIN_ABI) {
-        note_failure(report, cap, path, abi && enc && dec ? "built for another version of tocher (ABI mismatch)"
-                                                          : "not a tocher image plugin (entry points missing)");
+    tc_img_plugin_fns f = {
+        (tc_img_stream_open_fn)dlsym(h, "tc_img_stream_open"),
+        (tc_img_stream_rows_fn)dlsym(h, "tc_img_stream_rows"),
+        (tc_img_stream_finish_fn)dlsym(h, "tc_img_stream_finish"),
+        (tc_img_stream_free_fn)dlsym(h, "tc_img_stream_free"),
+        (tc_img_decode_impl_fn)dlsym(h, "tc_img_decode_impl"),
+    };
+    int complete = abi && f.open && f.rows && f.finish && f.free && f.decode;
+    if (!complete || abi() != TC_IMG_PLUGIN_ABI) {
+        note_failure(report, cap, path, complete ? "built for another version of tocher (ABI mismatch)"
+                                                 : "not a tocher image plugin (entry points missing)");
         dlclose(h);
         return -1;
     }
-    plugin_encode = enc;
-    plugin_decode = dec;
+    plugin_fns = f;
     return 0;
 }
 
@@ -107,9 +111,6 @@ int tc_img_load(char *err, size_t errlen) {
 
 int tc_img_loaded(void) { return atomic_load(&plugin_ok); }
 
-int tc__img_plugin(tc_img_encode_impl_fn *encode, tc_img_decode_impl_fn *decode, char *err, size_t errlen) {
-    if (tc_img_load(err, errlen) != 0) return -1;
-    if (encode) *encode = plugin_encode;
-    if (decode) *decode = plugin_decode;
-    return 0;
+const tc_img_plugin_fns *tc__img_plugin(char *err, size_t errlen) {
+    return tc_img_load(err, errlen) == 0 ? &plugin_fns : NULL;
 }

@@ -5,8 +5,8 @@
 
 #include "image/image.h"
 
-/* Loads the plugin if need be and gives its entry points: 0, or -1 with the
+/* Loads the plugin if need be and gives its entry points, or NULL with the
  * reason in err (the same reason every time: loading is tried once). */
-int tc__img_plugin(tc_img_encode_impl_fn *encode, tc_img_decode_impl_fn *decode, char *err, size_t errlen);
+const tc_img_plugin_fns *tc__img_plugin(char *err, size_t errlen);
 
 #endif

@@ -18,11 +18,22 @@ void tc_api_result_init(tc_api_result *res) {
     res->second_doc = TC_DIAGS_KEEP;
     res->triangles = res->pixels = 0;
     res->content_type = "application/json";
+    res->budget = NULL;
+    res->held = 0;
+    res->retry_after = 0;
     tc_diags_init(&res->diags);
     for (int i = 0; i < TC_NPHASES; i++) res->ms[i] = 0;
 }
 
-void tc_api_result_free(tc_api_result *res) { tc_diags_free(&res->diags); }
+void tc_api_result_free(tc_api_result *res) {
+    tc_api_result_release(res);
+    tc_diags_free(&res->diags);
+}
+
+void tc_api_result_release(tc_api_result *res) {
+    tc_budget_give(res->budget, res->held);
+    res->held = 0;
+}
 
 /* Adds the time since *t0 to phase p and restarts the clock. */
 static void lap(tc_api_result *res, int p, double *t0) {
@@ -248,6 +259,7 @@ void tc_api_problem(tc_strbuf *out, const tc_api_result *res) {
     if (res->status == 413) type = "too-large", title = "Request too large";
     if (res->status == 422) type = "invalid-mesh", title = "Invalid mesh";
     if (res->status == 503) type = "timeout", title = "Request took too long";
+    if (res->status == 503 && res->retry_after) type = "busy", title = "Server busy";
     tc_api_problem_write(out, res->status, type, title, &res->diags);
 }
 
@@ -263,13 +275,49 @@ void tc_api_add_timings(tc_strbuf *out, const tc_api_result *res) {
     tc_strbuf_printf(out, "\"total\":%.3f}}\n", total);
 }
 
-/* The render's pixels: values, coverage (alpha) and owners, freed together. */
+/* A render is rasterized and encoded a band of rows at a time, so that it
+ * holds at most its encoded answer (grown in place, handed to the response
+ * without a copy) and one band: ~8 MiB of working floats, at least 16 rows
+ * (tc_render's unit of work for its threads). */
+enum { BAND_BYTES = 8 << 20, BAND_MIN_ROWS = 16 };
+
+/* One band's pixels: values, coverage (alpha) and owners, freed together. */
 typedef struct {
     float *values, *alpha;
     int32_t *owner;
-} tile;
+    int32_t rows; /* rows allocated */
+} band;
 
-static void tile_free(tile *t) { free(t->values), free(t->alpha), free(t->owner); }
+static void band_free(band *b) { free(b->values), free(b->alpha), free(b->owner); }
+
+/* Working bytes of one pixel of a band: values, alpha, owner, and the
+ * encoder's converted copy of the samples (plus alpha). */
+static int64_t band_pixel_bytes(int nc) { return (int64_t)(2 * nc + 3) * 4; }
+
+static int32_t band_rows(const tc_viewport *vp, int nc) {
+    int64_t rows = BAND_BYTES / ((int64_t)vp->width * band_pixel_bytes(nc));
+    rows = rows < BAND_MIN_ROWS ? BAND_MIN_ROWS : rows / BAND_MIN_ROWS * BAND_MIN_ROWS;
+    return rows > vp->height ? vp->height : (int32_t)rows;
+}
+
+/* The most a render may hold at once: its answer at most (every stored
+ * sample uncompressed, plus 1/64 and 64 KiB for headers and a compressor's
+ * worst case) and one band. What --max-memory reserves before it starts. */
+static int64_t render_peak(const tc_viewport *vp, int nc, int fmt) {
+    const tc_img_traits *t = tc_img_traits_of((tc_img_format)fmt);
+    int64_t np = (int64_t)vp->width * vp->height;
+    int64_t stored = np * (nc + (tc_img_has_alpha((tc_img_format)fmt, nc) ? 1 : 0)) * t->sample_bytes;
+    return stored + stored / 64 + (64 << 10) + (int64_t)vp->width * band_rows(vp, nc) * band_pixel_bytes(nc);
+}
+
+static int band_alloc(band *b, const tc_viewport *vp, int nc) {
+    size_t np = (size_t)vp->width * (size_t)band_rows(vp, nc);
+    b->rows = band_rows(vp, nc);
+    b->values = malloc(np * (size_t)nc * sizeof *b->values);
+    b->alpha = malloc(np * sizeof *b->alpha);
+    b->owner = malloc(np * sizeof *b->owner);
+    return b->values && b->alpha && b->owner ? TC_OK : TC_ENOMEM;
+}
 
 /* The request's "format", else the caller's (an Accept header, a file's extension), else the default. */
 static int format_of(const tc_request *req, int fallback) {
@@ -277,69 +325,148 @@ static int format_of(const tc_request *req, int fallback) {
     return f >= 0 ? f : TC_IMG_DEFAULT;
 }
 
-/* Rasterizes the request's viewport into t; returns a core status. */
-static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
+/* Rasterizes rows [row0, row0 + rows) of the viewport into b (overlay
+ * included): each pixel as the whole tile's. Returns a core status. */
+static int rasterize(const job *j, const tc_api_limits *lim, int fmt, const tc_locator *L, int32_t row0,
+                     int32_t rows, band *b) {
     const tc_request *req = j->req;
     const tc_viewport *vp = &req->viewport;
-    size_t np = (size_t)vp->width * (size_t)vp->height, nc = (size_t)tc_mesh_channel_count(j->mesh);
-    tc_locator *L = NULL;
-    t->values = malloc(np * nc * sizeof *t->values);
-    t->alpha = malloc(np * sizeof *t->alpha);
-    t->owner = malloc(np * sizeof *t->owner);
-    int rc = !t->values || !t->alpha || !t->owner ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
-    if (rc == TC_OK) {
-        tc_render_options ropt = {req->has_background ? req->background : NULL, lim ? lim->render_threads : 1,
-                               lim ? lim->deadline_ms : 0};
-        rc = tc_render(j->recon, L, vp, &ropt, t->values, t->owner);
-    }
-    tc_locator_free(L);
+    tc_render_options ropt = {req->has_background ? req->background : NULL, lim ? lim->render_threads : 1,
+                              lim ? lim->deadline_ms : 0, row0, rows};
+    int rc = tc_render(j->recon, L, vp, &ropt, b->values, b->owner);
     if (rc != TC_OK) return rc;
-    for (size_t p = 0; p < np; p++) t->alpha[p] = t->owner[p] >= 0 ? 1.0f : 0.0f;
+    for (size_t p = 0; p < (size_t)vp->width * (size_t)rows; p++) b->alpha[p] = b->owner[p] >= 0 ? 1.0f : 0.0f;
     if (req->overlay) /* a display-referred format shows v * 2^exposure: scale the overlay so it shows as drawn */
-        tc_render_overlay(j->recon, vp, tc_img_traits_of((tc_img_format)fmt)->display ? pow(2, -req->exposure) : 1,
-                          t->values);
+        tc_render_overlay_rows(j->recon, vp, tc_img_traits_of((tc_img_format)fmt)->display ? pow(2, -req->exposure) : 1,
+                               row0, rows, b->values);
     return TC_OK;
 }
 
 /* A linear format's samples hold values up to its max_sample (float: FLT_MAX,
  * which the render never passes; half: 65504). Beyond, a value is written as
- * that bound, and a warning says how many and how large: the encoders would
- * otherwise write infinities that /v1/evaluate does not give. */
-static void saturate(const job *j, int fmt, tile *t, tc_api_result *res) {
+ * that bound; returns how many (the caller's warning says so: the encoders
+ * would otherwise write infinities that /v1/evaluate does not give). */
+static int64_t saturate(int fmt, float *v, size_t n) {
     double bound = tc_img_traits_of((tc_img_format)fmt)->max_sample;
-    size_t n = (size_t)j->req->viewport.width * (size_t)j->req->viewport.height * (size_t)tc_mesh_channel_count(j->mesh);
-    if (!(bound > 0)) return;
+    if (!(bound > 0)) return 0;
     float b = (float)bound;
     int64_t count = 0;
     for (size_t i = 0; i < n; i++) {
-        if (!(fabsf(t->values[i]) >= b)) continue; /* the tile holds no NaN (tc_render) */
+        if (!(fabsf(v[i]) >= b)) continue; /* the tile holds no NaN (tc_render) */
         count++;
-        t->values[i] = copysignf(b, t->values[i]);
+        v[i] = copysignf(b, v[i]);
     }
+    return count;
+}
+
+static void saturate_warning(int fmt, int64_t count, tc_api_result *res) {
     if (count)
         tc_diags_add(&res->diags, TC_SEV_WARNING, "format",
                      "%lld samples reach or pass the largest value %s holds, %.6g: they are written as that, with "
                      "their sign (/v1/evaluate gives the values in double precision)",
-                     (long long)count, tc_img_format_name((tc_img_format)fmt), bound);
+                     (long long)count, tc_img_format_name((tc_img_format)fmt), tc_img_traits_of((tc_img_format)fmt)->max_sample);
 }
 
-static int encode(const job *j, int fmt, const tile *t, tc_strbuf *out, tc_api_result *res) {
-    const tc_request *req = j->req;
-    int nc = tc_mesh_channel_count(j->mesh);
-    int alpha = tc_img_has_alpha((tc_img_format)fmt, nc);
-    tc_img im = {req->viewport.width, req->viewport.height, nc, t->values, alpha ? t->alpha : NULL, req->exposure,
-                 req->linear};
-    unsigned char *bytes = NULL;
-    size_t n = 0;
+/* A render's state from the first band to the answer. */
+typedef struct {
+    const job *j;
+    const tc_api_limits *lim;
+    int fmt;
+    tc_locator *L;
+    tc_img_writer *w;
+    band b;
+    int64_t saturated;
     char err[256];
-    if (tc_img_encode(&im, (tc_img_format)fmt, &bytes, &n, err, sizeof err) != 0) {
-        tc_diags_add(&res->diags, TC_SEV_ERROR, "format", "%s", err);
-        return res->status = 500;
+} render_state;
+
+/* Every band rendered and handed to the writer; a core status (TC_EINVAL:
+ * the writer failed, with its message in st->err). */
+static int render_bands(render_state *st, tc_api_result *res, double *t0) {
+    const tc_viewport *vp = &st->j->req->viewport;
+    int nc = tc_mesh_channel_count(st->j->mesh);
+    int alpha = tc_img_has_alpha((tc_img_format)st->fmt, nc);
+    for (int32_t row0 = 0; row0 < vp->height; row0 += st->b.rows) {
+        int32_t rows = vp->height - row0 < st->b.rows ? vp->height - row0 : st->b.rows;
+        int rc = rasterize(st->j, st->lim, st->fmt, st->L, row0, rows, &st->b);
+        lap(res, TC_PHASE_EVALUATE, t0);
+        if (rc != TC_OK) return rc;
+        st->saturated += saturate(st->fmt, st->b.values, (size_t)vp->width * (size_t)rows * (size_t)nc);
+        rc = tc_img_writer_rows(st->w, st->b.values, alpha ? st->b.alpha : NULL, rows, st->err, sizeof st->err);
+        lap(res, TC_PHASE_ENCODE, t0);
+        if (rc != 0) return TC_EINVAL;
     }
-    tc_strbuf_append(out, (const char *)bytes, n);
-    tc_img_free(bytes);
-    res->content_type = tc_img_mime((tc_img_format)fmt);
-    return res->status = out->oom ? 500 : 200;
+    return TC_OK;
+}
+
+/* Renders and encodes into out (empty): a core status, or TC_EINVAL with the
+ * image library's message in st->err. */
+static int render_encode(render_state *st, tc_strbuf *out, tc_api_result *res, double *t0) {
+    const tc_request *req = st->j->req;
+    int nc = tc_mesh_channel_count(st->j->mesh);
+    tc_img header = {req->viewport.width, req->viewport.height, nc, NULL, NULL, req->exposure, req->linear};
+    static const float marks_alpha = 1;
+    if (tc_img_has_alpha((tc_img_format)st->fmt, nc)) header.alpha = &marks_alpha;
+    int rc = band_alloc(&st->b, &req->viewport, nc);
+    if (rc == TC_OK) rc = tc_locator_new(st->j->mesh, &st->L);
+    if (rc != TC_OK) return rc;
+    if (tc_img_writer_open(&header, (tc_img_format)st->fmt, &st->w, st->err, sizeof st->err) != 0) return TC_EINVAL;
+    if ((rc = render_bands(st, res, t0)) != TC_OK) return rc;
+    unsigned char *bytes;
+    size_t len, cap;
+    if (tc_img_writer_finish(st->w, &bytes, &len, &cap, st->err, sizeof st->err) != 0) return TC_EINVAL;
+    lap(res, TC_PHASE_ENCODE, t0);
+    tc_strbuf_adopt(out, (char *)bytes, len, cap);
+    return out->oom ? TC_ENOMEM : TC_OK;
+}
+
+/* Reserves the render's peak in the memory budget: 413 if it could never fit,
+ * 503 (retry) if requests in flight hold too much of it now. */
+static int reserve(const job *j, const tc_api_limits *lim, int fmt, int64_t *peak, tc_api_result *res) {
+    tc_budget *b = lim ? lim->memory : NULL;
+    *peak = render_peak(&j->req->viewport, tc_mesh_channel_count(j->mesh), fmt);
+    if (!b || tc_budget_take(b, *peak)) return 200;
+    int64_t mib = 1 << 20;
+    if (*peak > b->limit) {
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "viewport",
+                     "this render may hold %lld MiB at once (its answer and one band); this server's memory budget "
+                     "for requests is %lld MiB",
+                     (long long)((*peak + mib - 1) / mib), (long long)(b->limit / mib));
+        return res->status = 413;
+    }
+    tc_diags_add(&res->diags, TC_SEV_ERROR, "",
+                 "renders in flight hold %lld of this server's %lld MiB for requests; this one needs %lld MiB: retry",
+                 (long long)(tc_budget_used(b) / mib), (long long)(b->limit / mib), (long long)((*peak + mib - 1) / mib));
+    res->retry_after = 1;
+    return res->status = 503;
+}
+
+/* The render of a built job: reserve, rasterize and encode band by band,
+ * keep in the budget only what the answer holds. */
+static int render_job(const job *j, const tc_api_limits *lim, int fmt, tc_strbuf *out, tc_api_result *res,
+                      double *t0) {
+    int64_t peak;
+    if (reserve(j, lim, fmt, &peak, res) != 200) return res->status;
+    render_state st = {j, lim, fmt, NULL, NULL, {0}, 0, ""};
+    int rc = render_encode(&st, out, res, t0);
+    tc_img_writer_free(st.w);
+    tc_locator_free(st.L);
+    band_free(&st.b);
+    res->pixels = rc == TC_OK ? (int64_t)j->req->viewport.width * j->req->viewport.height : 0;
+    if (rc == TC_OK) {
+        saturate_warning(fmt, st.saturated, res);
+        res->content_type = tc_img_mime((tc_img_format)fmt);
+        res->budget = lim ? lim->memory : NULL;
+        res->held = !res->budget ? 0 : (int64_t)out->cap < peak ? (int64_t)out->cap : peak; /* never more than taken */
+        tc_budget_give(res->budget, peak - res->held);
+        return res->status = 200;
+    }
+    tc_budget_give(lim ? lim->memory : NULL, peak);
+    tc_strbuf_free(out);
+    if (rc == TC_ETIMEOUT)
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while rendering");
+    else if (*st.err)
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "format", "%s", st.err);
+    return res->status = rc == TC_ETIMEOUT ? 503 : rc == TC_EINVAL && !*st.err ? 422 : 500;
 }
 
 /* A format that cannot hold the mesh's channel count (PNG: grey or RGB only) is
@@ -366,7 +493,6 @@ int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_li
                      tc_api_result *res) {
     double t0 = tc_now_ms();
     job j = {0};
-    tile t = {0};
     if (job_build(&j, body, len, TC_REQ_MESH | TC_REQ_VIEWPORT, lim, res, &t0) == 200) {
         int fmt = format_of(j.req, fallback);
         const tc_viewport *vp = &j.req->viewport;
@@ -374,18 +500,9 @@ int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_li
         int64_t ns = np * tc_mesh_channel_count(j.mesh);
         if (!over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") &&
             !over(res, "viewport", ns, lim ? lim->max_samples : 0, "samples (pixels x channels)") &&
-            check_format(&j, fmt, res) == 200) {
-            int rc = rasterize(&j, lim, fmt, &t);
-            lap(res, TC_PHASE_EVALUATE, &t0);
-            res->pixels = rc == TC_OK ? np : 0;
-            if (rc == TC_ETIMEOUT)
-                tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while rendering");
-            res->status = rc == TC_OK ? 200 : rc == TC_ETIMEOUT ? 503 : rc == TC_EINVAL ? 422 : 500;
-            if (rc == TC_OK) saturate(&j, fmt, &t, res), encode(&j, fmt, &t, out, res);
-            lap(res, TC_PHASE_ENCODE, &t0);
-        }
+            check_format(&j, fmt, res) == 200)
+            render_job(&j, lim, fmt, out, res, &t0);
     }
-    tile_free(&t);
     job_free(&j);
     return res->status;
 }

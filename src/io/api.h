@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "io/budget.h"
 #include "io/strbuf.h"
 #include "tocher.h"
 
@@ -19,6 +20,9 @@ typedef struct {
     int64_t max_samples; /* pixels x channels of one render: what its answer holds */
     int render_threads;  /* worker threads for one render (>= 1) */
     double deadline_ms;  /* tc_now_ms() time after which work stops; 0 = none */
+    tc_budget *memory;   /* requests in flight (--max-memory): a render reserves its peak
+                          * here first, or is refused (503, or 413 if it could never fit);
+                          * NULL: no budget */
 } tc_api_limits;
 
 typedef struct {
@@ -30,10 +34,16 @@ typedef struct {
     int64_t triangles;      /* triangles reconstructed */
     int64_t pixels;         /* pixels rendered */
     const char *content_type; /* of the 200 body: "application/json" or an image type */
+    tc_budget *budget;      /* where `held` is reserved (lim->memory), or NULL */
+    int retry_after;        /* seconds a refused request should wait (503 of a full budget), or 0 */
+    int64_t held;           /* bytes the 200 body holds in budget: given back when the body is
+                             * freed (tc_api_result_release; the daemon, once it is sent) */
 } tc_api_result;
 
 void tc_api_result_init(tc_api_result *res);
-void tc_api_result_free(tc_api_result *res);
+void tc_api_result_free(tc_api_result *res); /* releases `held` too */
+/* Gives `held` back to its budget (the body it paid for is gone or handed on). */
+void tc_api_result_release(tc_api_result *res);
 
 /* POST /v1/ordinates. On 200 `out` holds the JSON response object; else `out`
  * is untouched and res->diags says why (tc_api_problem renders it). lim may be NULL. */

@@ -170,3 +170,14 @@ char *tc_strbuf_detach(tc_strbuf *b, size_t *len) {
     tc_strbuf_init(b);
     return s;
 }
+
+void tc_strbuf_adopt(tc_strbuf *b, char *buf, size_t len, size_t cap) {
+    tc_strbuf_free(b);
+    if (!buf || cap <= len) {
+        free(buf);
+        b->oom = 1;
+        return;
+    }
+    buf[len] = '\0';
+    b->buf = buf, b->len = len, b->cap = cap;
+}

@@ -41,4 +41,9 @@ void tc_strbuf_json_string(tc_strbuf *b, const char *s);
  * oom was set — the partial content is freed then. */
 char *tc_strbuf_detach(tc_strbuf *b, size_t *len);
 
+/* The inverse: b (freed first) takes over buf, a malloc()ed block of cap > len
+ * bytes holding len bytes of content; buf[len] becomes the NUL. So an answer
+ * produced elsewhere (an encoded image) becomes the response without a copy. */
+void tc_strbuf_adopt(tc_strbuf *b, char *buf, size_t len, size_t cap);
+
 #endif

@@ -42,6 +42,10 @@ static const option options[] = {
     {"--max-samples", "TOCHER_MAX_SAMPLES", "N",
      "most samples (pixels x channels) in one render: its answer's size (0: no limit)", K_INT, F(max_samples), 0,
      1e15},
+    {"--max-memory", "TOCHER_MAX_MEMORY", "BYTES",
+     "memory renders in flight may hold at once (answers + working bands); a render that does not fit now gets "
+     "503 with Retry-After, one that never fits 413 (suffix k, M, G; 0: no limit)",
+     K_BYTES, F(max_memory), 0, 1LL << 50},
     {"--max-connections", "TOCHER_MAX_CONNECTIONS", "N", "open connections at once; more wait to be accepted", K_INT,
      F(max_connections), 1, 1e6},
     {"--request-timeout", "TOCHER_REQUEST_TIMEOUT", "SECONDS",
@@ -67,6 +71,14 @@ int tc_cpu_count(void) {
     return n < 1 ? 1 : n > 1024 ? 1024 : (int)n;
 }
 
+/* Half the machine's memory, at least 512 MiB: room for a few of the largest
+ * renders the default limits accept (an RGBA 4096^2 raw answer is 256 MiB). */
+static long long default_max_memory(void) {
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    long long half = pages > 0 && size > 0 ? (long long)pages * size / 2 : 0;
+    return half > (512LL << 20) ? half : 512LL << 20;
+}
+
 static void defaults(tc_srv_config *c) {
     int ncpu = tc_cpu_count();
     memset(c, 0, sizeof *c);
@@ -82,6 +94,7 @@ static void defaults(tc_srv_config *c) {
     c->max_points = 10000000;
     c->max_pixels = 4096LL * 4096;
     c->max_samples = 4LL * 4096 * 4096; /* an RGBA 4096^2 tile: 256 MiB of float samples */
+    c->max_memory = default_max_memory();
     c->max_connections = 1024;
     c->connection_timeout = 10;
     c->max_connections_per_ip = 128;

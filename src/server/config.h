@@ -12,6 +12,7 @@ typedef struct {
     long long max_queue;           /* requests waiting for a worker; beyond, 503 */
     long long max_body;            /* bytes */
     long long max_vertices, max_triangles, max_points, max_pixels, max_samples; /* 0: no limit */
+    long long max_memory;          /* bytes renders in flight may hold at once; 0: no limit */
     long long max_connections;     /* open connections at once */
     long long connection_timeout;  /* seconds a connection may stay idle; 0: forever */
     long long max_connections_per_ip; /* open connections from one address; 0: no limit */

@@ -172,23 +172,52 @@ static void add_headers(const tc_http_state *srv, const exchange *ex, const tc_r
     if (atomic_load(&srv->draining) || ex->close) MHD_add_response_header(resp, MHD_HTTP_HEADER_CONNECTION, "close");
 }
 
+/* A body handed to libmicrohttpd, and the share of the memory budget it
+ * holds: both let go when libmicrohttpd is done with it. */
+typedef struct {
+    char *buf;
+    tc_budget *budget;
+    int64_t held;
+} sent_body;
+
+static void sent_body_free(void *cls) {
+    sent_body *sb = cls;
+    free(sb->buf);
+    tc_budget_give(sb->budget, sb->held);
+    free(sb);
+}
+
+/* The response for the reply's body, which it takes over (no copy), with the
+ * budget share it holds; NULL (everything freed) if out of memory. */
+static struct MHD_Response *body_response(tc_reply *r, char *buf, size_t len) {
+    sent_body *sb = malloc(sizeof *sb);
+    struct MHD_Response *resp =
+        sb ? MHD_create_response_from_buffer_with_free_callback_cls(len, buf, sent_body_free, sb) : NULL;
+    if (!resp) {
+        free(sb), free(buf);
+        return NULL;
+    }
+    *sb = (sent_body){buf, r->res.budget, r->res.held};
+    r->res.held = 0; /* the response gives it back */
+    return resp;
+}
+
 /* Queues r (and frees it). Out of memory for the body degrades to a fixed 500. */
 static enum MHD_Result send_reply(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex, tc_reply *r) {
     size_t len = 0;
     char *buf = tc_strbuf_detach(&r->body, &len);
-    int status = buf ? r->status : 500;
-    const char *ctype = buf ? r->content_type : TC_PROBLEM_TYPE;
-    struct MHD_Response *resp =
-        buf ? MHD_create_response_from_buffer(len, buf, MHD_RESPMEM_MUST_FREE)
-            : MHD_create_response_from_buffer(sizeof oom_problem - 1, (void *)oom_problem, MHD_RESPMEM_PERSISTENT);
-    if (!buf) len = sizeof oom_problem - 1;
+    struct MHD_Response *resp = buf ? body_response(r, buf, len) : NULL;
+    int status = resp ? r->status : 500;
+    const char *ctype = resp ? r->content_type : TC_PROBLEM_TYPE;
+    if (!resp) {
+        len = sizeof oom_problem - 1;
+        resp = MHD_create_response_from_buffer(len, (void *)oom_problem, MHD_RESPMEM_PERSISTENT);
+    }
     enum MHD_Result ok = MHD_NO;
     if (resp) {
         add_headers(srv, ex, r, resp, ctype);
         ok = MHD_queue_response(c, (unsigned)status, resp);
         MHD_destroy_response(resp);
-    } else {
-        free(buf);
     }
     if (ok == MHD_YES) {
         ex->queued = 1, ex->status = status, ex->bytes = len;
@@ -259,17 +288,18 @@ static enum MHD_Result take_data(const tc_http_state *srv, struct MHD_Connection
     return MHD_YES;
 }
 
-static tc_api_limits limits(const tc_srv_config *cfg, double t0) {
+static tc_api_limits limits(const tc_srv_config *cfg, tc_budget *memory, double t0) {
     tc_api_limits lim = {.max_vertices = cfg->max_vertices, .max_triangles = cfg->max_triangles,
                          .max_points = cfg->max_points, .max_pixels = cfg->max_pixels,
-                         .max_samples = cfg->max_samples, .render_threads = (int)cfg->render_threads};
+                         .max_samples = cfg->max_samples, .render_threads = (int)cfg->render_threads,
+                         .memory = memory};
     if (cfg->request_timeout > 0) lim.deadline_ms = t0 + cfg->request_timeout * 1e3;
     return lim;
 }
 
 /* Runs the route (on a worker for POST routes: it touches no connection state). */
 static void run(const tc_http_state *srv, exchange *ex, tc_reply *r) {
-    tc_route_input in = {ex->body.buf ? ex->body.buf : "", ex->body.len, ex->accept, limits(srv->cfg, ex->t0)};
+    tc_route_input in = {ex->body.buf ? ex->body.buf : "", ex->body.len, ex->accept, limits(srv->cfg, (tc_budget *)&srv->memory, ex->t0)};
     long long bad;
     if (past_deadline(srv->cfg, ex))
         return tc_reply_problem(r, TC_PROBLEM_TIMEOUT, "the request took too long to arrive");

@@ -13,6 +13,7 @@
 #include <microhttpd.h>
 
 #include "server/config.h"
+#include "io/budget.h"
 #include "server/pool.h"
 
 /* Shared by all connections (the `cls` of both callbacks). */
@@ -20,6 +21,8 @@ typedef struct {
     const tc_srv_config *cfg;
     atomic_int draining; /* set on shutdown: new requests get 503 and Connection: close */
     tc_pool *pool;       /* runs the POST routes off the I/O threads */
+    tc_budget memory;    /* what renders in flight hold (--max-memory); an answer's share is
+                          * given back when libmicrohttpd frees it */
 } tc_http_state;
 
 enum MHD_Result tc_http_access(void *cls, struct MHD_Connection *c, const char *url, const char *method,

@@ -102,6 +102,10 @@ static void write_histogram(tc_strbuf *o) {
     }
 }
 
+static const tc_budget *memory_budget;
+
+void tc_metrics_budget(const tc_budget *b) { memory_budget = b; }
+
 void tc_metrics_write(tc_strbuf *o) {
     write_requests(o);
     write_histogram(o);
@@ -115,6 +119,9 @@ void tc_metrics_write(tc_strbuf *o) {
     tc_strbuf_printf(o, "tocher_worker_queue_length %ld\n", atomic_load(&jobs_waiting));
     header(o, "tocher_workers_busy", "gauge", "Worker threads computing an answer.");
     tc_strbuf_printf(o, "tocher_workers_busy %ld\n", atomic_load(&jobs_running));
+    header(o, "tocher_memory_reserved_bytes", "gauge",
+           "Bytes renders in flight hold or may hold (answers being sent, reserved peaks); --max-memory bounds it.");
+    tc_strbuf_printf(o, "tocher_memory_reserved_bytes %lld\n", (long long)tc_budget_used(memory_budget));
     header(o, "tocher_build_info", "gauge", "Version of this daemon; always 1.");
     tc_strbuf_printf(o, "tocher_build_info{version=\"%s\"} 1\n", TC_VERSION);
 }

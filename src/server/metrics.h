@@ -5,6 +5,7 @@
 
 #include <stdint.h>
 
+#include "io/budget.h"
 #include "io/strbuf.h"
 
 #define TC_METRICS_MAX_ROUTES 15
@@ -30,6 +31,8 @@ long tc_metrics_in_flight(void);
 
 /* Appends the text exposition format (version 0.0.4). */
 void tc_metrics_write(tc_strbuf *out);
+/* The budget whose reserved bytes /metrics shows (the server's), or NULL. */
+void tc_metrics_budget(const tc_budget *b);
 
 #define TC_METRICS_CONTENT_TYPE "text/plain; version=0.0.4; charset=utf-8"
 

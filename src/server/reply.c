@@ -38,6 +38,7 @@ void tc_reply_problem(tc_reply *r, tc_problem p, const char *detail) {
     tc_diags_add(&d, TC_SEV_ERROR, "", "%s", detail);
     r->status = problems[p].status;
     r->content_type = TC_PROBLEM_TYPE;
+    tc_api_result_release(&r->res); /* the body it paid for is replaced */
     tc_strbuf_reset(&r->body);
     tc_api_problem_write(&r->body, r->status, problems[p].type, problems[p].title, &d);
     tc_diags_free(&d);

@@ -43,6 +43,7 @@ static void api_reply(int status, int json, tc_reply *out) {
     }
     tc_strbuf_reset(&out->body);
     tc_api_problem(&out->body, &out->res);
+    out->retry_after = out->res.retry_after;
     out->content_type = TC_PROBLEM_TYPE;
 }
 

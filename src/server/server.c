@@ -15,6 +15,7 @@
 #include "server/conns.h"
 #include "server/http.h"
 #include "server/log.h"
+#include "server/metrics.h"
 #include "server/server.h"
 
 struct tc_server {
@@ -93,6 +94,8 @@ tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
     if (!s) return snprintf(err, errlen, "out of memory"), NULL;
     s->state.cfg = cfg;
     atomic_init(&s->state.draining, 0);
+    tc_budget_init(&s->state.memory, cfg->max_memory);
+    tc_metrics_budget(&s->state.memory);
     s->quiesced = MHD_INVALID_SOCKET;
     s->conns = tc_conns_start(cfg);
     if (!s->conns) return free(s), snprintf(err, errlen, "cannot start the deadline thread"), NULL;

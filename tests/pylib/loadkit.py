@@ -93,21 +93,29 @@ def post(port, path, body, timeout=300, conn=None):
             c.close()
 
 
+LONG_RENDERS = ("--max-pixels", "0", "--max-samples", "0")
+
+
 def render_body(side):
     vp = {"x0": -0.1, "y0": -0.1, "x1": 1.1, "y1": 1.1, "width": side, "height": side}
     return json.dumps(dict(shadow(), viewport=vp, format="raw")).encode()
 
 
 def calibrate_render(port, seconds):
-    """A raw render body whose rendering (Server-Timing "evaluate", without the encoding
-    and the transfer) takes about `seconds` on this daemon (side at most 4096)."""
+    """A raw render body whose request (rendering, encoding and the transfer, on this daemon)
+    takes about `seconds` (side at most 8192: the daemon must run with LONG_RENDERS, the
+    pixel and sample limits lifted; a 4096^2 render of this mesh takes well under a second).
+    Small renders are dominated by per-triangle costs, so one measurement does not
+    extrapolate: the side is refined until a render takes 0.7 to 1.5 times `seconds`."""
     side = 600
-    st, h, _, t = post(port, "/v1/render", render_body(side))
-    if st != 200:
-        return render_body(side), 0.0
-    m = re.search(r"evaluate;dur=([0-9.]+)", h.get("Server-Timing", ""))
-    t = float(m.group(1)) * 1e-3 if m else t
-    side = int(min(4096, max(64, side * math.sqrt(seconds / max(t, 1e-3)))))
+    for _ in range(5):
+        st, _, _, t = post(port, "/v1/render", render_body(side))
+        if st != 200 or 0.7 * seconds <= t <= 1.5 * seconds:
+            break
+        new = int(min(8192, max(64, side * math.sqrt(seconds / max(t, 1e-3)))))
+        if new == side:
+            break
+        side = new
     return render_body(side), seconds
 
 
@@ -117,7 +125,7 @@ def hol(build, name, renders, conns, render_s, limit_s, threads=2, conn_timeout=
     """`renders` long renders (about render_s each) on their own connections while `conns`
     pre-opened keep-alive connections send small /v1/ordinates in a loop: the slowest
     small answer must take at most limit_s, and none may go unanswered."""
-    d = Daemon(build, name, "--threads", str(threads), "--render-threads", "1",
+    d = Daemon(build, name, "--threads", str(threads), "--render-threads", "1", *LONG_RENDERS,
                "--connection-timeout", str(conn_timeout))
     if not started(d, name):
         return
@@ -188,7 +196,7 @@ def hol(build, name, renders, conns, render_s, limit_s, threads=2, conn_timeout=
 def queue_full(build, name, render_s):
     """--workers 1 --max-queue 1: one render runs, one waits, a third gets 503 with
     Retry-After at once; the two accepted ones are answered 200."""
-    d = Daemon(build, name, "--workers", "1", "--max-queue", "1", "--render-threads", "1")
+    d = Daemon(build, name, "--workers", "1", "--max-queue", "1", "--render-threads", "1", *LONG_RENDERS)
     if not started(d, name):
         return
     body, _ = calibrate_render(d.port, render_s)
@@ -321,7 +329,7 @@ def sigterm(build, name, rounds, clients, render_s):
     exits = []
     body = None  # calibrated on the first daemon that starts
     for k in range(rounds):
-        d = Daemon(build, "%s-%d" % (name, k), "--render-threads", "1")
+        d = Daemon(build, "%s-%d" % (name, k), "--render-threads", "1", *LONG_RENDERS)
         if not d.started:
             bad.append("daemon %d did not start" % k)
             continue

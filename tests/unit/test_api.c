@@ -935,3 +935,42 @@ TEST(api_render_samples_limit_counts_channels) {
     tc_strbuf_free(&out);
     tc_api_result_free(&res);
 }
+
+/* One render under a memory budget: it fits (the answer's share stays reserved
+ * until released, the rest is given back at once), it does not fit beside what
+ * others hold (503, retry_after, nothing allocated), it could never fit (413
+ * naming the viewport). tc_budget itself: a take past the limit changes nothing. */
+TEST(api_render_memory_budget) {
+    const char *body = "{\"vertices\": [[0,0],[1,0],[0,1]], \"triangles\": [[0,1,2]], \"values\": [1,2,3],"
+                       " \"format\": \"raw\", \"viewport\": {\"x0\": 0, \"y0\": 0, \"x1\": 1, \"y1\": 1,"
+                       " \"width\": 256, \"height\": 256}}";
+    tc_budget b;
+    tc_budget_init(&b, 4 << 20);
+    CHECK(tc_budget_take(&b, 3 << 20) == 1 && tc_budget_take(&b, 2 << 20) == 0 && tc_budget_used(&b) == 3 << 20);
+    tc_budget_give(&b, 3 << 20);
+    CHECK(tc_budget_used(&b) == 0 && tc_budget_take(NULL, 1) == 1);
+    tc_api_limits lim = {.render_threads = 1, .memory = &b};
+    tc_strbuf out;
+    tc_api_result res;
+    tc_strbuf_init(&out);
+    tc_api_result_init(&res);
+    CHECK(tc_api_render_as(body, strlen(body), -1, &lim, &out, &res) == 200 && out.len == 256 * 256 * 4);
+    CHECK_MSG(res.held >= (int64_t)out.len && tc_budget_used(&b) == res.held, "held %lld, used %lld",
+              (long long)res.held, (long long)tc_budget_used(&b));
+    tc_api_result_release(&res);
+    CHECK(tc_budget_used(&b) == 0 && res.held == 0);
+    tc_strbuf_free(&out);
+    tc_api_result_free(&res);
+    CHECK(tc_budget_take(&b, 3 << 20) == 1); /* others hold 3 of 4 MiB */
+    tc_api_result_init(&res);
+    CHECK(tc_api_render_as(body, strlen(body), -1, &lim, &out, &res) == 503 && out.len == 0 && res.retry_after == 1);
+    CHECK(tc_budget_used(&b) == 3 << 20 && res.diags.count && strstr(res.diags.items[0].message, "retry"));
+    tc_api_result_free(&res);
+    tc_budget_give(&b, 3 << 20);
+    tc_budget_init(&b, 128 << 10); /* less than the answer alone */
+    tc_api_result_init(&res);
+    CHECK(tc_api_render_as(body, strlen(body), -1, &lim, &out, &res) == 413 && out.len == 0);
+    CHECK(res.diags.count && !strcmp(res.diags.items[0].path, "viewport") && tc_budget_used(&b) == 0);
+    tc_api_result_free(&res);
+    tc_strbuf_free(&out);
+}

@@ -446,6 +446,53 @@ TEST(image_encode_is_deterministic) {
     }
 }
 
+/* Written band by band (1, 2 and 3 rows at a time, one band of all rows), every
+ * format gives the bytes tc_img_encode gives; rows past the end, a missing alpha
+ * and finishing early are refused with a message. */
+TEST(image_writer_bands_give_the_same_bytes) {
+    test_img t;
+    make_img(&t, 3, 1);
+    for (int f = 0; f < TC_IMG_NFORMATS; f++) {
+        tc_img im = t.im;
+        if (!tc_img_has_alpha((tc_img_format)f, 3)) im.alpha = NULL;
+        unsigned char *want = NULL;
+        size_t want_len = 0;
+        if (encode(&im, (tc_img_format)f, &want, &want_len) != 0) continue;
+        for (int step = 1; step <= H; step++) {
+            char err[256] = "";
+            tc_img_writer *w = NULL;
+            unsigned char *got = NULL;
+            size_t len = 0, cap = 0;
+            int rc = tc_img_writer_open(&im, (tc_img_format)f, &w, err, sizeof err);
+            for (int y = 0; rc == 0 && y < H; y += step) {
+                int rows = H - y < step ? H - y : step;
+                rc = tc_img_writer_rows(w, im.pixels + (size_t)y * W * 3, im.alpha ? im.alpha + y * W : NULL, rows,
+                                        err, sizeof err);
+            }
+            if (rc == 0) rc = tc_img_writer_finish(w, &got, &len, &cap, err, sizeof err);
+            CHECK_MSG(rc == 0, "%s in bands of %d: %s", tc_img_format_name((tc_img_format)f), step, err);
+            CHECK_MSG(rc != 0 || (len == want_len && cap > len && memcmp(got, want, len) == 0),
+                      "%s in bands of %d rows: %zu bytes differ from tc_img_encode's %zu",
+                      tc_img_format_name((tc_img_format)f), step, len, want_len);
+            tc_img_free(got);
+            tc_img_writer_free(w);
+        }
+        tc_img_free(want);
+    }
+    char err[256] = "";
+    tc_img_writer *w = NULL;
+    unsigned char *got = NULL;
+    size_t len, cap;
+    CHECK(tc_img_writer_open(&t.im, TC_IMG_PNG, &w, err, sizeof err) == 0);
+    CHECK(tc_img_writer_rows(w, t.px, NULL, 1, err, sizeof err) == -1 && strstr(err, "alpha expected"));
+    CHECK(tc_img_writer_rows(w, t.px, t.alpha, H + 1, err, sizeof err) == -1);
+    CHECK(tc_img_writer_rows(w, t.px, t.alpha, 2, err, sizeof err) == 0);
+    CHECK(tc_img_writer_finish(w, &got, &len, &cap, err, sizeof err) == -1 && strstr(err, "only 2 of 5 rows"));
+    CHECK(got == NULL);
+    tc_img_writer_free(w);
+    tc_img_writer_free(NULL);
+}
+
 /* ---- the format table as a whole ----------------------------------------------------- */
 
 /* What adding a row must keep true: the name and each extension lead back to

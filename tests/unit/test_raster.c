@@ -44,7 +44,7 @@ static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
     int32_t *own = malloc(np * sizeof *own);
     double bg[TC_MAX_CHANNELS];
     for (int ch = 0; ch < nc; ch++) bg[ch] = -7.5 + ch;
-    tc_render_options o = {bg, threads, 0};
+    tc_render_options o = {bg, threads, 0, 0, 0};
     CHECK(tc_render(s->r, s->L, vp, &o, img, own) == TC_OK);
     int bad_owner = 0, bad_value = 0;
     for (int32_t j = 0; j < vp->height; j++)
@@ -166,7 +166,7 @@ TEST(raster_same_bits_for_any_thread_count) {
     tc_viewport vp = {-0.05, 0, 1, 1.02, 211, 197};
     size_t n = (size_t)vp.width * (size_t)vp.height * 3;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
-    tc_render_options o = {NULL, 1, 0};
+    tc_render_options o = {NULL, 1, 0, 0, 0};
     CHECK(tc_render(s.r, s.L, &vp, &o, a, NULL) == TC_OK);
     int threads[] = {2, 3, 4, 8, 16};
     for (int k = 0; k < 5; k++) {
@@ -179,6 +179,38 @@ TEST(raster_same_bits_for_any_thread_count) {
     scene_free(&s);
 }
 
+/* A tile rendered in bands of rows (row0/rows), overlay included, is the whole
+ * tile's pixels bit for bit; rows outside the viewport are refused. */
+TEST(raster_bands_equal_the_whole_tile) {
+    scene s;
+    scene_init(&s, 16, 0.25, 3, tc_test_seed() + 24);
+    if (!s.r) return;
+    tc_viewport vp = {-0.05, 0, 1, 1.02, 131, 97};
+    size_t row = (size_t)vp.width * 3, n = row * (size_t)vp.height;
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    int32_t *oa = malloc(n / 3 * sizeof *oa), *ob = malloc(n / 3 * sizeof *ob);
+    tc_render_options o = {NULL, 2, 0, 0, 0};
+    CHECK(tc_render(s.r, s.L, &vp, &o, a, oa) == TC_OK);
+    tc_render_overlay(s.r, &vp, 0.5, a);
+    int steps[] = {1, 7, 16, 40, 97};
+    for (int k = 0; k < 5; k++) {
+        memset(b, 0xff, n * sizeof *b);
+        for (int32_t y = 0; y < vp.height; y += steps[k]) {
+            o.row0 = y, o.rows = vp.height - y < steps[k] ? vp.height - y : steps[k];
+            CHECK(tc_render(s.r, s.L, &vp, &o, b + (size_t)y * row, ob + (size_t)y * (size_t)vp.width) == TC_OK);
+            tc_render_overlay_rows(s.r, &vp, 0.5, o.row0, o.rows, b + (size_t)y * row);
+        }
+        CHECK_MSG(memcmp(a, b, n * sizeof *a) == 0, "bands of %d rows differ from the whole tile", steps[k]);
+        CHECK_MSG(memcmp(oa, ob, n / 3 * sizeof *oa) == 0, "owners in bands of %d rows differ", steps[k]);
+    }
+    o.row0 = 90, o.rows = 8; /* past the last row */
+    CHECK(tc_render(s.r, s.L, &vp, &o, b, ob) == TC_EINVAL);
+    o.row0 = -1, o.rows = 1;
+    CHECK(tc_render(s.r, s.L, &vp, &o, b, ob) == TC_EINVAL);
+    free(a), free(b), free(oa), free(ob);
+    scene_free(&s);
+}
+
 TEST(raster_outside_background_and_errors) {
     scene s;
     scene_init(&s, 12, 0.25, 1, tc_test_seed() + 22);
@@ -187,7 +219,7 @@ TEST(raster_outside_background_and_errors) {
     float img[64];
     int32_t own[64];
     double bg = 0.25;
-    tc_render_options o = {&bg, 1, 0};
+    tc_render_options o = {&bg, 1, 0, 0, 0};
     CHECK(tc_render(s.r, s.L, &off, &o, img, own) == TC_OK);
     int ok = 1;
     for (int p = 0; p < 64; p++) ok &= img[p] == 0.25f && own[p] == -1;
@@ -198,7 +230,7 @@ TEST(raster_outside_background_and_errors) {
     CHECK(tc_render(s.r, s.L, &bad, &o, img, own) == TC_EINVAL);
     bad = (tc_viewport){0, 0, NAN, 1, 8, 8};
     CHECK(tc_render(s.r, s.L, &bad, &o, img, own) == TC_EINVAL);
-    tc_render_options late = {NULL, 2, 1.0}; /* a deadline long past */
+    tc_render_options late = {NULL, 2, 1.0, 0, 0}; /* a deadline long past */
     tc_viewport vp = {0, 0, 1, 1, 8, 8};
     CHECK(tc_render(s.r, s.L, &vp, &late, img, own) == TC_ETIMEOUT);
     scene_free(&s);
