@@ -8,6 +8,7 @@
 
 #include "server/conns.h"
 #include "server/log.h"
+#include "server/metrics.h"
 
 /* One open connection. deadline: seconds on the monotonic clock; 0: none. */
 typedef struct conn {
@@ -15,6 +16,7 @@ typedef struct conn {
     struct tc_conns *owner;
     MHD_socket fd;
     double deadline;
+    int in_body; /* the deadline is the body's (else the headers') */
 } conn;
 
 struct tc_conns {
@@ -45,6 +47,7 @@ static int sweep(tc_conns *t) {
     for (conn *k = t->head.next; k != &t->head; k = k->next) {
         if (k->deadline <= 0 || now < k->deadline) continue;
         shutdown(k->fd, SHUT_RDWR);
+        tc_metrics_deadline_closed(k->in_body);
         k->deadline = 0;
         closed++;
     }
@@ -140,5 +143,6 @@ void tc_conns_phase(struct MHD_Connection *c, tc_conn_phase p) {
                                                       : 0;
     pthread_mutex_lock(&t->lock);
     k->deadline = d;
+    k->in_body = p == TC_CONN_BODY;
     pthread_mutex_unlock(&t->lock);
 }

@@ -103,6 +103,9 @@ static void write_histogram(tc_strbuf *o) {
 }
 
 static const tc_budget *memory_budget;
+static atomic_ullong closed_late[2]; /* [0] headers, [1] body */
+
+void tc_metrics_deadline_closed(int body) { atomic_fetch_add(&closed_late[body ? 1 : 0], 1); }
 
 void tc_metrics_budget(const tc_budget *b) { memory_budget = b; }
 
@@ -119,6 +122,10 @@ void tc_metrics_write(tc_strbuf *o) {
     tc_strbuf_printf(o, "tocher_worker_queue_length %ld\n", atomic_load(&jobs_waiting));
     header(o, "tocher_workers_busy", "gauge", "Worker threads computing an answer.");
     tc_strbuf_printf(o, "tocher_workers_busy %ld\n", atomic_load(&jobs_running));
+    header(o, "tocher_connections_closed_late_total", "counter",
+           "Connections closed unanswered because their request headers or body passed their deadline.");
+    tc_strbuf_printf(o, "tocher_connections_closed_late_total{part=\"headers\"} %llu\n", get(&closed_late[0]));
+    tc_strbuf_printf(o, "tocher_connections_closed_late_total{part=\"body\"} %llu\n", get(&closed_late[1]));
     header(o, "tocher_memory_reserved_bytes", "gauge",
            "Bytes renders in flight hold or may hold (answers being sent, reserved peaks); --max-memory bounds it.");
     tc_strbuf_printf(o, "tocher_memory_reserved_bytes %lld\n", (long long)tc_budget_used(memory_budget));

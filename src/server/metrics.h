@@ -31,6 +31,8 @@ long tc_metrics_in_flight(void);
 
 /* Appends the text exposition format (version 0.0.4). */
 void tc_metrics_write(tc_strbuf *out);
+/* A connection closed because its request headers (body 0) or body (1) were late. */
+void tc_metrics_deadline_closed(int body);
 /* The budget whose reserved bytes /metrics shows (the server's), or NULL. */
 void tc_metrics_budget(const tc_budget *b);
 

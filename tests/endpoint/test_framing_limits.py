@@ -20,6 +20,7 @@ seen to fail before the change. Prints "ok"/"FAIL" lines, then "N passed, N fail
 """
 import json
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -142,6 +143,10 @@ def section_slow(d):
     s.close()
     check("slow clients: a body trickling past the 1 s body deadline is closed (after %.1f s)" % (time.time() - t0),
           closed, "still open after 3.5 s")
+    metrics, _ = exchange(d, b"GET /metrics HTTP/1.1\r\nHost: t\r\nConnection: close\r\n\r\n")
+    late = {p: int(n) for p, n in re.findall(rb'tocher_connections_closed_late_total\{part="(\w+)"\} (\d+)', metrics)}
+    check("slow clients: /metrics counts the connections closed late (%r)" % late,
+          late.get(b"headers", 0) >= 1 and late.get(b"body", 0) >= 1, metrics[-600:])
 
 
 def main():
