@@ -304,11 +304,11 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, tile *t) {
     t->values = malloc(np * nc * sizeof *t->values);
     t->alpha = malloc(np * sizeof *t->alpha);
     t->owner = malloc(np * sizeof *t->owner);
-    int rc = !t->values || !t->alpha || !t->owner ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
+    int rc = !t->values || !t->alpha || !t->owner ? TC_ENOMEM : j->locator ? TC_OK : tc_locator_new(j->mesh, &L);
     if (rc == TC_OK) {
         tc_render_options ropt = {req->has_background ? req->background : NULL, lim ? lim->render_threads : 1,
                                lim ? lim->deadline_ms : 0};
-        rc = tc_render(j->recon, L, vp, &ropt, t->values, t->owner);
+        rc = tc_render(j->recon, L ? L : j->locator, vp, &ropt, t->values, t->owner);
     }
     tc_locator_free(L);
     if (rc != TC_OK) return rc;

@@ -20,6 +20,7 @@ typedef struct {
     const tc_srv_config *cfg;
     atomic_int draining; /* set on shutdown: new requests get 503 and Connection: close */
     tc_pool *pool;       /* runs the POST routes off the I/O threads */
+    struct tc_meshes *meshes; /* the stored meshes (server/meshes.h) */
 } tc_http_state;
 
 enum MHD_Result tc_http_access(void *cls, struct MHD_Connection *c, const char *url, const char *method,
