@@ -133,9 +133,9 @@ static int not_modified(const tc_route_input *in, tc_reply *out, const char *mea
     return 1;
 }
 
-/* A successful GET keeps its caching headers; an error drops them. */
+/* A successful or not-modified GET keeps its caching headers; an error drops them. */
 static void keep_cache_headers_if_ok(tc_reply *out) {
-    if (out->status == 200) return;
+    if (out->status == 200 || out->status == 304) return;
     out->etag[0] = '\0';
     out->cache_control = NULL;
 }
