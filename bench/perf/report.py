@@ -188,6 +188,12 @@ def section_stored(stored):
              (b["tiles_per_s"], b["requests"], b["duration_us"] * 1e-6, b["p50_us"] / 1e3, b["p99_us"] / 1e3,
               b["errors"] + b["non2xx"]),
              "≥ 2000/s", "yes" if b["tiles_per_s"] >= 2000 else "no"]]
+    c = stored.get("many_raw_tiles")
+    if c:
+        rows.append(["the same tiles as raw float32 (no image encoder)",
+                     "%.0f tiles/s (%d GETs), p50 %.1f ms, p99 %.1f ms" % (c["tiles_per_s"], c["requests"],
+                                                                         c["p50_us"] / 1e3, c["p99_us"] / 1e3),
+                     "", ""])
     return ("Measured %s, %d cores, wrk and tocherd on the same machine (bench/perf/stored.py).\n\n" %
             (stored["date"], stored["cores"]) + table(["measure", "measured", "target", "met"], rows))
 

@@ -1,8 +1,9 @@
 -- tiles.lua — wrk script for `make bench` (bench/perf/stored.py): each connection GETs the
--- 256² PNG tiles of one zoom level of a stored mesh in turn (TOCHER_TILE_BASE = /v1/meshes/ID/tiles,
+-- 256² tiles (TOCHER_TILE_FORMAT, default png) of one zoom level of a stored mesh in turn (TOCHER_TILE_BASE = /v1/meshes/ID/tiles,
 -- TOCHER_TILE_Z) for wrk's duration; the run is printed as one "WRKJSON {...}" line.
 local base = os.getenv("TOCHER_TILE_BASE")
 local z = tonumber(os.getenv("TOCHER_TILE_Z"))
+local fmt = os.getenv("TOCHER_TILE_FORMAT") or "png"
 local side = 2 ^ z
 local threads = {}
 
@@ -18,7 +19,7 @@ end
 function request()
   local x, y = k % side, math.floor(k / side) % side
   k = k + 1
-  return wrk.format("GET", string.format("%s/%d/%d/%d.png", base, z, x, y))
+  return wrk.format("GET", string.format("%s/%d/%d/%d.%s", base, z, x, y, fmt))
 end
 
 done = function(summary, latency, requests)
