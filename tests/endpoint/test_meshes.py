@@ -19,7 +19,8 @@ What it establishes, one "ok"/"FAIL" line per check, then "N passed, N failed":
   5. DELETE: 204, then 404 everywhere (an old ETag included);
   6. a daemon with a tiny --cache-memory evicts and rebuilds from the store, answering the
      same bytes; concurrent uses of an evicted mesh build it once (/metrics);
-  7. concurrent POST / tile / render / DELETE: every answer is right or a 404, none fails.
+  7. concurrent POST / tile / render / DELETE: every answer is right or a 404, none fails;
+  8. --store / --cache-memory and their TOCHER_* variables, and --help naming them.
 """
 import atexit
 import http.client
@@ -457,6 +458,32 @@ def section_concurrency(D):
     check("daemon alive", D.alive())
 
 
+# ---- 8. configuration ------------------------------------------------------------------
+
+def section_config():
+    bad = Tocherd(TOCHERD, os.path.join(TMP, "badstore.stderr"), ("--store", "redis"), strict=False)
+    DAEMONS.append(bad)
+    bad.proc.wait(10)
+    check("--store redis (not in this build): refused naming --store, exit 2",
+          not bad.started and bad.proc.returncode == 2 and "--store" in bad.stderr(), bad.stderr()[-300:])
+    env = Tocherd(TOCHERD, os.path.join(TMP, "envstore.stderr"), (), {"TOCHER_STORE": "memory",
+                                                                        "TOCHER_CACHE_MEMORY": "0"})
+    DAEMONS.append(env)
+    r = post(env, "/v1/meshes", grid_mesh(2))
+    check("TOCHER_STORE=memory, TOCHER_CACHE_MEMORY=0: stores, caches nothing", r.status == 201 and
+          metric(env, "tocher_cache_bytes") == 0 and metric(env, "tocher_meshes_stored") == 1, r.brief())
+    t = request(env, "GET", "/v1/meshes/%s/tiles/0/0/0.raw?size=4" % r.json()["id"])
+    check("... and serves tiles, rebuilding each time", t.status == 200 and len(t.body) == 4 * 4 * 4 and
+          metric(env, "tocher_cache_misses_total") == 2, t.brief())
+    env.stop()
+    h = Tocherd(TOCHERD, os.path.join(TMP, "help.stderr"), ("--help",), strict=False)
+    DAEMONS.append(h)
+    out = h.line + h.proc.stdout.read().decode()
+    h.proc.wait(10)
+    check("--help lists --store and --cache-memory with their variables",
+          all(w in out for w in ("--store", "TOCHER_STORE", "--cache-memory", "TOCHER_CACHE_MEMORY")), out[-400:])
+
+
 def main():
     say("# %s against %s" % (os.path.basename(__file__), BUILD))
     D = start("main", "--workers", "8")
@@ -467,6 +494,7 @@ def main():
     section_delete(D)
     section_concurrency(D)
     section_eviction()
+    section_config()
     check("metrics: hits, misses, evictions, bytes, stored, build histogram", all(
         metric(D, n) is not None for n in ("tocher_cache_hits_total", "tocher_cache_misses_total",
                                            "tocher_cache_evictions_total", "tocher_cache_bytes",
