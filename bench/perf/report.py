@@ -59,6 +59,7 @@ class Run:
         self.peers = load(outdir, "peers.json")
         self.toch = load(outdir, "tocher.json")
         self.daemon = load(outdir, "daemon.json")
+        self.stored = load(outdir, "stored.json") if os.path.exists(os.path.join(outdir, "stored.json")) else None
         self.names = [n for n in self.toch["meshes"] if n in self.peers["meshes"]]
         try:
             with open(os.path.join(outdir, "lscpu.txt")) as f:
@@ -168,6 +169,33 @@ def section_http(r):
                      "%.0f" % w["rps"], "%.2f ms" % (w["p50_us"] / 1e3), "%.2f ms" % (w["p90_us"] / 1e3),
                      "%.2f ms" % (w["p99_us"] / 1e3), w["errors"] + w["non2xx"]])
     return table(["route", "wrk", "requests/s", "p50", "p90", "p99", "errors"], rows)
+
+
+def section_stored(stored):
+    """The stored-mesh figures (bench/perf/stored.py): tile of a stored mesh against a whole render
+    request, and tile throughput. Also spliced into an existing page (see stored.py's output)."""
+    if not stored:
+        return "(not measured: stored.json is missing)"
+    a, b = stored["tile_vs_render"], stored["many_tiles"]
+    rows = [["256² PNG tile of a stored %d-triangle mesh vs POST /v1/render of it (%.1f MB body)" %
+             (a["triangles"], a["body_bytes"] / 1e6),
+             "%.1f ms vs %.0f ms (medians of %d tiles): %.0f×" % (a["tile_median_s"] * 1e3, a["render_median_s"] * 1e3,
+                                                                 a["samples"], a["ratio"]),
+             "≥ 20×", "yes" if a["ratio"] >= 20 else "no"],
+            ["256² PNG tiles of a stored %d-triangle mesh, %d keep-alive clients (wrk, z = %d)" %
+             (b["triangles"], b["clients"], b["zoom"]),
+             "%.0f tiles/s (%d GETs in %.1f s), p50 %.1f ms, p99 %.1f ms, %d errors" %
+             (b["tiles_per_s"], b["requests"], b["duration_us"] * 1e-6, b["p50_us"] / 1e3, b["p99_us"] / 1e3,
+              b["errors"] + b["non2xx"]),
+             "≥ 2000/s", "yes" if b["tiles_per_s"] >= 2000 else "no"]]
+    c = stored.get("many_raw_tiles")
+    if c:
+        rows.append(["the same tiles as raw float32 (no image encoder)",
+                     "%.0f tiles/s (%d GETs), p50 %.1f ms, p99 %.1f ms" % (c["tiles_per_s"], c["requests"],
+                                                                         c["p50_us"] / 1e3, c["p99_us"] / 1e3),
+                     "", ""])
+    return ("Measured %s, %d cores, wrk and tocherd on the same machine (bench/perf/stored.py).\n\n" %
+            (stored["date"], stored["cores"]) + table(["measure", "measured", "target", "met"], rows))
 
 
 def section_skip(r):
@@ -319,6 +347,10 @@ so the tree never coexists with the mesh, the ordinates or the image.
 wrk and tocherd share the machine's 2 cores.
 
 {section_http(r)}
+
+## Stored meshes: tiles without the body
+
+{section_stored(r.stored)}
 
 ## Work only what a scene needs
 

@@ -9,6 +9,7 @@
 #include "io/jsonout.h"
 #include "io/prescan.h"
 #include "io/request.h"
+#include "io/request_write.h"
 #include "io/response.h"
 
 const char *const tc_phase_names[TC_NPHASES] = {"parse", "validate", "build", "evaluate", "encode"};
@@ -71,9 +72,11 @@ typedef struct {
     tc_request *req;
     tc_mesh *mesh;
     tc_recon *recon;
+    tc_locator *locator; /* built once for a stored mesh (tc_api_job); NULL: each use makes its own */
 } job;
 
 static void job_free(job *j) {
+    tc_locator_free(j->locator);
     tc_recon_free(j->recon);
     tc_mesh_free(j->mesh);
     tc_request_free(j->req);
@@ -122,12 +125,18 @@ static int parse_within(const char *body, size_t len, unsigned expect, const tc_
     return tc_request_parse(body, len, expect, req, &res->diags);
 }
 
-static int job_build(job *j, const char *body, size_t len, unsigned expect, const tc_api_limits *lim,
+/* Parses a request into j->req under the limits: 200, or the status (res says why). */
+static int job_parse(job *j, const char *body, size_t len, unsigned expect, const tc_api_limits *lim,
                      tc_api_result *res, double *t0) {
     int rs = parse_within(body, len, expect, lim, &j->req, res);
     lap(res, TC_PHASE_PARSE, t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
     if (!within_limits(j->req, lim, res) || late(lim, res, "parsing")) return res->status;
+    return 200;
+}
+
+/* Validates j->req's mesh and builds its reconstruction: 200, or the status. */
+static int job_make(job *j, const tc_api_limits *lim, tc_api_result *res, double *t0) {
     int rc = tc_mesh_new(&j->req->desc, &j->mesh, &res->diags);
     lap(res, TC_PHASE_VALIDATE, t0);
     if (rc != TC_OK) return res->status = status_of_core(rc);
@@ -138,6 +147,13 @@ static int job_build(job *j, const char *body, size_t len, unsigned expect, cons
     if (late(lim, res, "building the reconstruction")) return res->status;
     res->triangles = triangle_count(j->req);
     return res->status = 200;
+}
+
+/* Parse, validate, build: the one path from request bytes to a built job. */
+static int job_build(job *j, const char *body, size_t len, unsigned expect, const tc_api_limits *lim,
+                     tc_api_result *res, double *t0) {
+    if (job_parse(j, body, len, expect, lim, res, t0) != 200) return res->status;
+    return job_make(j, lim, res, t0);
 }
 
 static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
@@ -193,8 +209,10 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b, const tc_
     double *val = malloc((n ? n : 1) * (size_t)nc * sizeof *val);
     double *grad = pts->with_gradients ? malloc((n ? n : 1) * 2 * (size_t)nc * sizeof *grad) : NULL;
     int32_t *tri = malloc((n ? n : 1) * sizeof *tri);
-    int rc = !val || !tri || (pts->with_gradients && !grad) ? TC_ENOMEM : tc_locator_new(j->mesh, &L);
-    if (rc == TC_OK && eval_chunked(j, L, pts, nc, val, grad, tri, lim, res)) rc = TC_ETIMEOUT;
+    int rc = !val || !tri || (pts->with_gradients && !grad) ? TC_ENOMEM
+             : j->locator                                   ? TC_OK
+                                                            : tc_locator_new(j->mesh, &L);
+    if (rc == TC_OK && eval_chunked(j, L ? L : j->locator, pts, nc, val, grad, tri, lim, res)) rc = TC_ETIMEOUT;
     if (rc == TC_OK) {
         tc_strbuf_putc(b, '{');
         tc_json_points(b, nc, n, val, grad, tri, j->req->values_plain);
@@ -387,7 +405,7 @@ static int render_bands(render_state *st, tc_api_result *res, double *t0) {
     int alpha = tc_img_has_alpha((tc_img_format)st->fmt, nc);
     for (int32_t row0 = 0; row0 < vp->height; row0 += st->b.rows) {
         int32_t rows = vp->height - row0 < st->b.rows ? vp->height - row0 : st->b.rows;
-        int rc = rasterize(st->j, st->lim, st->fmt, st->L, row0, rows, &st->b);
+        int rc = rasterize(st->j, st->lim, st->fmt, st->L ? st->L : st->j->locator, row0, rows, &st->b);
         lap(res, TC_PHASE_EVALUATE, t0);
         if (rc != TC_OK) return rc;
         st->saturated += saturate(st->fmt, st->b.values, (size_t)vp->width * (size_t)rows * (size_t)nc);
@@ -407,7 +425,7 @@ static int render_encode(render_state *st, tc_strbuf *out, tc_api_result *res, d
     static const float marks_alpha = 1;
     if (tc_img_has_alpha((tc_img_format)st->fmt, nc)) header.alpha = &marks_alpha;
     int rc = band_alloc(&st->b, &req->viewport, nc);
-    if (rc == TC_OK) rc = tc_locator_new(st->j->mesh, &st->L);
+    if (rc == TC_OK && !st->j->locator) rc = tc_locator_new(st->j->mesh, &st->L); /* a stored mesh has its own */
     if (rc != TC_OK) return rc;
     if (tc_img_writer_open(&header, (tc_img_format)st->fmt, &st->w, st->err, sizeof st->err) != 0) return TC_EINVAL;
     if ((rc = render_bands(st, res, t0)) != TC_OK) return rc;
@@ -440,35 +458,6 @@ static int reserve(const job *j, const tc_api_limits *lim, int fmt, int64_t *pea
     return res->status = 503;
 }
 
-/* The render of a built job: reserve, rasterize and encode band by band,
- * keep in the budget only what the answer holds. */
-static int render_job(const job *j, const tc_api_limits *lim, int fmt, tc_strbuf *out, tc_api_result *res,
-                      double *t0) {
-    int64_t peak;
-    if (reserve(j, lim, fmt, &peak, res) != 200) return res->status;
-    render_state st = {j, lim, fmt, NULL, NULL, {0}, 0, ""};
-    int rc = render_encode(&st, out, res, t0);
-    tc_img_writer_free(st.w);
-    tc_locator_free(st.L);
-    band_free(&st.b);
-    res->pixels = rc == TC_OK ? (int64_t)j->req->viewport.width * j->req->viewport.height : 0;
-    if (rc == TC_OK) {
-        saturate_warning(fmt, st.saturated, res);
-        res->content_type = tc_img_mime((tc_img_format)fmt);
-        res->budget = lim ? lim->memory : NULL;
-        res->held = !res->budget ? 0 : (int64_t)out->cap < peak ? (int64_t)out->cap : peak; /* never more than taken */
-        tc_budget_give(res->budget, peak - res->held);
-        return res->status = 200;
-    }
-    tc_budget_give(lim ? lim->memory : NULL, peak);
-    tc_strbuf_free(out);
-    if (rc == TC_ETIMEOUT)
-        tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while rendering");
-    else if (*st.err)
-        tc_diags_add(&res->diags, TC_SEV_ERROR, "format", "%s", st.err);
-    return res->status = rc == TC_ETIMEOUT ? 503 : rc == TC_EINVAL && !*st.err ? 422 : 500;
-}
-
 /* A format that cannot hold the mesh's channel count (PNG: grey or RGB only) is
  * refused before any work. */
 static int check_format(const job *j, int fmt, tc_api_result *res) {
@@ -489,20 +478,50 @@ int tc_api_render(const char *body, size_t len, const char *accept, const tc_api
     return tc_api_render_as(body, len, tc_accept_format(accept), lim, out, res);
 }
 
+/* The render of a built job: j->req holds the viewport and the look (format
+ * aside, given as fmt), j->mesh and j->recon the reconstruction. Every render,
+ * of a request's own mesh or of a stored one, goes through here: the limits,
+ * the format's channels, the memory budget, then bands rasterized and encoded,
+ * and only what the answer holds kept in the budget. */
+static int render_job(const job *j, int fmt, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res,
+                      double *t0) {
+    const tc_viewport *vp = &j->req->viewport;
+    int64_t np = (int64_t)vp->width * vp->height, peak;
+    if (over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") ||
+        over(res, "viewport", np * tc_mesh_channel_count(j->mesh), lim ? lim->max_samples : 0,
+             "samples (pixels x channels)") ||
+        check_format(j, fmt, res) != 200 || reserve(j, lim, fmt, &peak, res) != 200)
+        return res->status;
+    render_state st = {j, lim, fmt, NULL, NULL, {0}, 0, ""};
+    int rc = render_encode(&st, out, res, t0);
+    tc_img_writer_free(st.w);
+    tc_locator_free(st.L);
+    band_free(&st.b);
+    res->pixels = rc == TC_OK ? np : 0;
+    if (rc == TC_OK) {
+        saturate_warning(fmt, st.saturated, res);
+        res->content_type = tc_img_mime((tc_img_format)fmt);
+        res->budget = lim ? lim->memory : NULL;
+        res->held = !res->budget ? 0 : (int64_t)out->cap < peak ? (int64_t)out->cap : peak; /* never more than taken */
+        tc_budget_give(res->budget, peak - res->held);
+        return res->status = 200;
+    }
+    tc_budget_give(lim ? lim->memory : NULL, peak);
+    tc_strbuf_free(out);
+    if (rc == TC_ETIMEOUT)
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "", "the request ran past its time limit while rendering");
+    else if (*st.err)
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "format", "%s", st.err);
+    return res->status = rc == TC_ETIMEOUT ? 503 : rc == TC_EINVAL && !*st.err ? 422 : 500;
+}
+
+
 int tc_api_render_as(const char *body, size_t len, int fallback, const tc_api_limits *lim, tc_strbuf *out,
                      tc_api_result *res) {
     double t0 = tc_now_ms();
     job j = {0};
-    if (job_build(&j, body, len, TC_REQ_MESH | TC_REQ_VIEWPORT, lim, res, &t0) == 200) {
-        int fmt = format_of(j.req, fallback);
-        const tc_viewport *vp = &j.req->viewport;
-        int64_t np = (int64_t)vp->width * vp->height;
-        int64_t ns = np * tc_mesh_channel_count(j.mesh);
-        if (!over(res, "viewport", np, lim ? lim->max_pixels : 0, "pixels") &&
-            !over(res, "viewport", ns, lim ? lim->max_samples : 0, "samples (pixels x channels)") &&
-            check_format(&j, fmt, res) == 200)
-            render_job(&j, lim, fmt, out, res, &t0);
-    }
+    if (job_build(&j, body, len, TC_REQ_MESH | TC_REQ_VIEWPORT, lim, res, &t0) == 200)
+        render_job(&j, format_of(j.req, fallback), lim, out, res, &t0);
     job_free(&j);
     return res->status;
 }
@@ -630,5 +649,213 @@ int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_st
     }
     tc_locator_free(L);
     job_free(&j);
+    return res->status;
+}
+
+/* ---- stored meshes: a job built once, used by many requests ---- */
+
+struct tc_api_job {
+    job j;              /* req holds the description and options; locator built */
+    tc_diags warnings;  /* of parsing, validating and building: every use repeats them */
+    tc_api_mesh_info info;
+};
+
+void tc_api_job_free(tc_api_job *J) {
+    if (!J) return;
+    job_free(&J->j);
+    tc_diags_free(&J->warnings);
+    free(J);
+}
+
+/* Copies the warnings of `from` to the end of `to` (the kept ones). */
+static void add_warnings(tc_diags *to, const tc_diags *from) {
+    for (int i = 0; i < from->count; i++)
+        if (from->items[i].severity == TC_SEV_WARNING)
+            tc_diags_add(to, TC_SEV_WARNING, from->items[i].path, "%s", from->items[i].message);
+}
+
+/* A stored mesh is the reconstruction only: parts of other requests are
+ * refused (400 naming the field) rather than silently dropped. */
+static int refuse_extras(const tc_request *r, tc_api_result *res) {
+    const char *field = r->npoints ? "points" : r->has_viewport ? "viewport" : r->format >= 0 ? "format"
+                        : r->nreference                                  ? "reference"
+                        : r->nmethods                                    ? "methods"
+                                                                         : NULL;
+    if (!field) return 0;
+    tc_diags_add(&res->diags, TC_SEV_ERROR, field,
+                 "a stored mesh holds the mesh and its options only; send '%s' to the mesh's own routes "
+                 "(/v1/meshes/{id}/evaluate, /render, /tiles)", field);
+    return res->status = 400;
+}
+
+/* The memory a built job holds, estimated from its counts: the ordinates
+ * (exact), plus per vertex and per triangle allowances for the mesh, its
+ * topology, the request's arrays and the locator. The cache's bound is in these units. */
+static size_t job_bytes(const job *j) {
+    const tc_mesh_desc *d = &j->req->desc;
+    size_t nt = (size_t)triangle_count(j->req), nv = (size_t)d->nverts, nc = (size_t)d->nchan;
+    size_t coefs = nt * nc * (size_t)tc_recon_coef_count(j->recon) * sizeof(double);
+    return sizeof(tc_api_job) + coefs + nv * (64 + 48 * nc) + nt * (160 + 24 * nc);
+}
+
+static void fill_info(tc_api_job *J) {
+    const tc_mesh_desc *d = &J->j.req->desc;
+    tc_api_mesh_info *in = &J->info;
+    in->vertices = d->nverts;
+    in->triangles = triangle_count(J->j.req);
+    in->channels = d->nchan;
+    for (int k = 0; k < 2; k++) in->bbox[k] = in->bbox[2 + k] = d->nverts ? d->xy[k] : 0;
+    for (int32_t v = 1; v < d->nverts; v++)
+        for (int k = 0; k < 2; k++) {
+            double x = d->xy[2 * v + k];
+            if (x < in->bbox[k]) in->bbox[k] = x;
+            if (x > in->bbox[2 + k]) in->bbox[2 + k] = x;
+        }
+    in->bytes = job_bytes(&J->j);
+}
+
+int tc_api_job_build(const char *body, size_t len, const tc_api_limits *lim, tc_api_job **out, tc_api_result *res) {
+    double t0 = tc_now_ms();
+    *out = NULL;
+    tc_api_job *J = calloc(1, sizeof *J);
+    if (!J) {
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "", "out of memory");
+        return res->status = 500;
+    }
+    tc_diags_init(&J->warnings);
+    if (job_parse(&J->j, body, len, TC_REQ_MESH, lim, res, &t0) == 200 && !refuse_extras(J->j.req, res) &&
+        job_make(&J->j, lim, res, &t0) == 200) {
+        int rc = tc_locator_new(J->j.mesh, &J->j.locator);
+        lap(res, TC_PHASE_BUILD, &t0);
+        if (rc != TC_OK) res->status = status_of_core(rc);
+    }
+    if (res->status != 200) {
+        tc_api_job_free(J);
+        return res->status;
+    }
+    /* As a rebuild from the canonical form (plain numbers for one channel) answers. */
+    J->j.req->values_plain = J->j.req->desc.nchan == 1;
+    add_warnings(&J->warnings, &res->diags);
+    fill_info(J);
+    *out = J;
+    return 200;
+}
+
+const tc_api_mesh_info *tc_api_job_info(const tc_api_job *J) { return &J->info; }
+
+void tc_api_job_canonical(const tc_api_job *J, tc_strbuf *out) {
+    tc_json_request(out, &J->j.req->desc, &J->j.req->opt);
+}
+
+void tc_api_job_describe(const tc_api_job *J, const char *id, tc_strbuf *out) {
+    const tc_api_mesh_info *in = &J->info;
+    tc_strbuf_puts(out, "{\"id\":");
+    tc_strbuf_json_string(out, id);
+    tc_strbuf_printf(out, ",\"vertices\":%lld,\"triangles\":%lld,\"channels\":%d,\"bbox\":[", (long long)in->vertices,
+                     (long long)in->triangles, in->channels);
+    for (int k = 0; k < 4; k++) {
+        if (k) tc_strbuf_putc(out, ',');
+        tc_strbuf_double(out, in->bbox[k]);
+    }
+    tc_strbuf_putc(out, ']');
+    tc_json_options(out, &J->j.req->opt);
+    tc_json_diags(out, "warnings", &J->warnings, TC_SEV_WARNING);
+    tc_strbuf_puts(out, "}\n");
+}
+
+int tc_api_job_ordinates(const tc_api_job *J, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
+    double t0 = tc_now_ms();
+    add_warnings(&res->diags, &J->warnings);
+    res->triangles = J->info.triangles;
+    if (late(lim, res, "waiting for the reconstruction")) return res->status;
+    tc_strbuf b;
+    tc_strbuf_init(&b);
+    tc_strbuf_putc(&b, '{');
+    tc_json_ordinates(&b, J->j.recon);
+    int rc = finish(out, &b, res);
+    lap(res, TC_PHASE_ENCODE, &t0);
+    return rc;
+}
+
+/* The mesh is stored: a document that brings one is refused, naming it. */
+static int refuse_mesh(const tc_request *r, tc_api_result *res) {
+    if (!r->has_mesh) return 0;
+    tc_diags_add(&res->diags, TC_SEV_ERROR, "vertices",
+                 "this route uses the stored mesh; send no vertices, triangles or values (POST a new mesh to "
+                 "/v1/meshes)");
+    return res->status = 400;
+}
+
+int tc_api_job_evaluate(const tc_api_job *J, const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out,
+                        tc_api_result *res) {
+    double t0 = tc_now_ms();
+    add_warnings(&res->diags, &J->warnings);
+    res->second_doc = res->diags.count;
+    res->triangles = J->info.triangles;
+    tc_request *pts = NULL;
+    int rs = parse_within(body, len, TC_REQ_POINTS, lim, &pts, res);
+    lap(res, TC_PHASE_PARSE, &t0);
+    if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
+    tc_strbuf b;
+    tc_strbuf_init(&b);
+    if (!refuse_mesh(pts, res) && within_limits(pts, lim, res)) {
+        int rc = evaluate(&J->j, pts, &b, lim, res);
+        if (rc != TC_OK) res->status = rc == TC_ETIMEOUT ? 503 : 500;
+        lap(res, TC_PHASE_EVALUATE, &t0);
+    }
+    tc_request_free(pts);
+    if (res->status != 200) {
+        tc_strbuf_free(&b);
+        return res->status;
+    }
+    int rc = finish(out, &b, res);
+    lap(res, TC_PHASE_ENCODE, &t0);
+    return rc;
+}
+
+/* Renders the stored reconstruction with the look in `view` (a request with a
+ * viewport and no mesh), through the stateless routes' render_job. */
+static int render_view(const tc_api_job *J, tc_request *view, int fallback, const tc_api_limits *lim,
+                       tc_strbuf *out, tc_api_result *res, double *t0) {
+    job v = J->j; /* shares the stored mesh and reconstruction; frees nothing */
+    v.req = view;
+    return render_job(&v, format_of(view, fallback), lim, out, res, t0);
+}
+
+int tc_api_job_render(const tc_api_job *J, const char *body, size_t len, const char *accept,
+                      const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res) {
+    double t0 = tc_now_ms();
+    add_warnings(&res->diags, &J->warnings);
+    res->triangles = J->info.triangles;
+    tc_request *view = NULL;
+    int rs = tc_request_parse_for(body, len, TC_REQ_VIEWPORT, J->info.channels, &view, &res->diags);
+    lap(res, TC_PHASE_PARSE, &t0);
+    if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
+    if (!refuse_mesh(view, res)) render_view(J, view, tc_accept_format(accept), lim, out, res, &t0);
+    tc_request_free(view);
+    return res->status;
+}
+
+int tc_api_job_render_look(const tc_api_job *J, const tc_api_look *look, const tc_api_limits *lim, tc_strbuf *out,
+                           tc_api_result *res) {
+    double t0 = tc_now_ms();
+    add_warnings(&res->diags, &J->warnings);
+    res->triangles = J->info.triangles;
+    tc_request *view = calloc(1, sizeof *view);
+    if (!view) {
+        tc_diags_add(&res->diags, TC_SEV_ERROR, "", "out of memory");
+        return res->status = 500;
+    }
+    /* What tc_request_parse makes of {"viewport", "format", "exposure", "overlay", "linear", "background"}. */
+    view->has_viewport = 1;
+    view->viewport = look->viewport;
+    view->format = look->format;
+    view->exposure = look->exposure;
+    view->overlay = look->overlay;
+    view->linear = look->linear;
+    view->has_background = look->has_background;
+    for (int c = 0; c < TC_MAX_CHANNELS; c++) view->background[c] = look->background[c];
+    render_view(J, view, -1, lim, out, res, &t0);
+    tc_request_free(view);
     return res->status;
 }

@@ -83,4 +83,55 @@ void tc_api_problem_write(tc_strbuf *out, int status, const char *type, const ch
  * object in `out` (which must end with "}\n"). */
 void tc_api_add_timings(tc_strbuf *out, const tc_api_result *res);
 
+/* ---- stored meshes (POST /v1/meshes and /v1/meshes/{id}/...) ----
+ * A job is a parsed, validated, built mesh request with its point locator,
+ * immutable once built: any number of threads may use one at once. */
+typedef struct tc_api_job tc_api_job;
+
+typedef struct {
+    int64_t vertices, triangles; /* triangles: a quad counts as 2 */
+    int channels;
+    double bbox[4];              /* x0, y0, x1, y1 of the vertices */
+    size_t bytes;                /* memory the job holds (an estimate from its counts) */
+} tc_api_mesh_info;
+
+/* Parses (a mesh request: a body with points, viewport, format, reference or
+ * methods is refused, 400 naming the field), validates and builds, under the
+ * limits. 200 and *out, or the status with res->diags saying why. The job
+ * keeps the warnings found, and repeats them in every answer it gives. */
+int tc_api_job_build(const char *body, size_t len, const tc_api_limits *lim, tc_api_job **out, tc_api_result *res);
+void tc_api_job_free(tc_api_job *J);
+const tc_api_mesh_info *tc_api_job_info(const tc_api_job *J);
+
+/* The canonical form (io/request_write.h): the request as complete JSON with
+ * every number exact. Equal for requests that parse to the same mesh and
+ * options; what a mesh's content id hashes, and what the store keeps. */
+void tc_api_job_canonical(const tc_api_job *J, tc_strbuf *out);
+
+/* {"id", "vertices", "triangles", "channels", "bbox", "method", <options>, "warnings"}\n */
+void tc_api_job_describe(const tc_api_job *J, const char *id, tc_strbuf *out);
+
+/* The answers of /v1/ordinates, /v1/evaluate (body: {"points", "with_gradients"})
+ * and /v1/render (body: {"viewport", "format", "exposure", "overlay",
+ * "background", "linear"}; accept as tc_api_render's) for the stored mesh,
+ * equal to theirs for the same mesh. A body that holds a mesh is refused (400). */
+int tc_api_job_ordinates(const tc_api_job *J, const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res);
+int tc_api_job_evaluate(const tc_api_job *J, const char *body, size_t len, const tc_api_limits *lim, tc_strbuf *out,
+                        tc_api_result *res);
+int tc_api_job_render(const tc_api_job *J, const char *body, size_t len, const char *accept,
+                      const tc_api_limits *lim, tc_strbuf *out, tc_api_result *res);
+
+/* A render's parameters given directly (a tile): what tc_request_parse reads
+ * from those members of a /v1/render body. */
+typedef struct {
+    tc_viewport viewport;
+    int format; /* a tc_img_format */
+    double exposure;
+    int overlay, linear, has_background;
+    double background[TC_MAX_CHANNELS];
+} tc_api_look;
+
+int tc_api_job_render_look(const tc_api_job *J, const tc_api_look *look, const tc_api_limits *lim, tc_strbuf *out,
+                           tc_api_result *res);
+
 #endif

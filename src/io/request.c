@@ -160,7 +160,12 @@ static cJSON *parse_json(tc__reader *rd, const char *json, size_t len) {
 
 int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request **out,
                      tc_diags *diags) {
-    tc__reader rd = {.diags = diags, .expect = expect};
+    return tc_request_parse_for(json, len, expect, 0, out, diags);
+}
+
+int tc_request_parse_for(const char *json, size_t len, unsigned expect, int nchan, tc_request **out,
+                         tc_diags *diags) {
+    tc__reader rd = {.diags = diags, .expect = expect, .nchan = nchan};
     *out = NULL;
     tc_request *r = tc__rd_injected_failure() ? NULL : calloc(1, sizeof *r);
     if (!r) {

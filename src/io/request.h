@@ -66,6 +66,12 @@ typedef struct tc_request {
  * and value errors occur the result is TC_REQ_MALFORMED. diags may be NULL. */
 int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request **out,
                      tc_diags *diags);
+/* The same for a document about a mesh parsed before (a stored one): its
+ * channel count, nchan, is known, so per-channel fields ("background") are
+ * read against it. The document must not hold a mesh itself (has_mesh then
+ * says it did; the caller refuses it). nchan = 0: tc_request_parse. */
+int tc_request_parse_for(const char *json, size_t len, unsigned expect, int nchan, tc_request **out,
+                         tc_diags *diags);
 void tc_request_free(tc_request *r);
 
 /* For tests only: make the n-th following allocation (1-based) of the reader on

@@ -10,7 +10,7 @@
 #include "server/config.h"
 #include "tocher.h"
 
-typedef enum { K_LISTEN, K_INT, K_BYTES, K_SECONDS } kind;
+typedef enum { K_LISTEN, K_INT, K_BYTES, K_SECONDS, K_STORE } kind;
 
 typedef struct {
     const char *flag, *env, *arg, *help;
@@ -62,6 +62,11 @@ static const option options[] = {
      K_SECONDS, F(body_timeout), 0, 86400},
     {"--shutdown-grace", "TOCHER_SHUTDOWN_GRACE", "SECONDS",
      "on SIGTERM/SIGINT, time left to requests in flight", K_SECONDS, F(shutdown_grace), 0, 86400},
+    {"--store", "TOCHER_STORE", "NAME", "where POSTed meshes are kept: memory (in this process)", K_STORE, F(store), 0,
+     0},
+    {"--cache-memory", "TOCHER_CACHE_MEMORY", "BYTES",
+     "built reconstructions of stored meshes kept in memory (LRU; suffix k, M, G; 0: none)", K_BYTES,
+     F(cache_memory), 0, 1LL << 50},
 };
 #undef F
 enum { NOPTIONS = sizeof options / sizeof options[0] };
@@ -77,6 +82,13 @@ static long long default_max_memory(void) {
     long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
     long long half = pages > 0 && size > 0 ? (long long)pages * size / 2 : 0;
     return half > (512LL << 20) ? half : 512LL << 20;
+}
+
+/* A quarter of the RAM, at most 4 GiB (256 MiB if the RAM cannot be read). */
+static long long default_cache_memory(void) {
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    long long cap = 4LL << 30, q = pages > 0 && page > 0 ? (long long)pages * page / 4 : 256LL << 20;
+    return q < cap ? q : cap;
 }
 
 static void defaults(tc_srv_config *c) {
@@ -102,6 +114,8 @@ static void defaults(tc_srv_config *c) {
     c->body_timeout = 60;
     c->request_timeout = 30;
     c->shutdown_grace = 30;
+    strcpy(c->store, "memory");
+    c->cache_memory = default_cache_memory();
 }
 
 /* "HOST:PORT" or "[V6ADDR]:PORT". */
@@ -143,18 +157,28 @@ static int parse_number(const option *o, const char *s, double *out) {
 }
 
 /* source: the environment variable, or NULL for the flag. */
+/* The store backends this build has. */
+static int parse_store(tc_srv_config *c, const char *s) {
+    if (strcmp(s, "memory")) return -1;
+    strcpy(c->store, s);
+    return 0;
+}
+
 static int set_option(tc_srv_config *c, const option *o, const char *value, const char *source) {
     double v = 0;
-    int bad = o->k == K_LISTEN ? parse_listen(c, value) : parse_number(o, value, &v);
+    int bad = o->k == K_LISTEN  ? parse_listen(c, value)
+              : o->k == K_STORE ? parse_store(c, value)
+                                : parse_number(o, value, &v);
     if (bad) {
         fprintf(stderr, "tocherd: %s%s%s: bad value for %s %s", source ? source : o->flag, source ? "=" : " ",
                 value, o->flag, o->arg);
         if (o->k == K_LISTEN) fprintf(stderr, " (e.g. 127.0.0.1:8080, [::1]:0)\n");
+        else if (o->k == K_STORE) fprintf(stderr, " (memory)\n");
         else fprintf(stderr, " (%.0f to %.0f%s)\n", o->min, o->max, o->k == K_SECONDS ? ", fractions allowed" : "");
         return -1;
     }
     if (o->k == K_SECONDS) *(double *)((char *)c + o->off) = v;
-    else if (o->k != K_LISTEN) *(long long *)((char *)c + o->off) = (long long)v;
+    else if (o->k != K_LISTEN && o->k != K_STORE) *(long long *)((char *)c + o->off) = (long long)v;
     return 0;
 }
 
@@ -170,6 +194,7 @@ static int load_env(tc_srv_config *c) {
 static void default_text(const option *o, const tc_srv_config *d, char *buf, size_t n) {
     const char *p = (const char *)d + o->off;
     if (o->k == K_LISTEN) snprintf(buf, n, "%s:%lld", d->host, d->port);
+    else if (o->k == K_STORE) snprintf(buf, n, "%s", p);
     else if (o->k == K_SECONDS) snprintf(buf, n, "%g", *(const double *)p);
     else snprintf(buf, n, "%lld", *(const long long *)p);
 }
@@ -178,8 +203,8 @@ static void help(void) {
     tc_srv_config d;
     defaults(&d);
     printf("usage: tocherd [options]\n\n"
-           "The tocher HTTP daemon: POST /v1/ordinates, /v1/evaluate, /v1/render;\n"
-           "GET /healthz, /metrics, /v1/version. Each option may also be given by the\n"
+           "The tocher HTTP daemon: POST /v1/ordinates, /v1/evaluate, /v1/render, /v1/compare;\n"
+           "stored meshes at /v1/meshes (POST, then GET tiles); GET /healthz, /metrics, /v1/version. Each option may also be given by the\n"
            "environment variable shown; flags override the environment.\n\n");
     for (int i = 0; i < NOPTIONS; i++) {
         const option *o = &options[i];
@@ -190,7 +215,7 @@ static void help(void) {
     }
     printf("  %-30s %s\n  %-30s %s\n\n", "--help", "this text", "--version", "print the version");
     printf("Defaults of --threads (at least 2), --workers (twice that) and --render-threads follow the\n"
-           "number of CPUs (%d here).\n"
+           "number of CPUs (%d here); --cache-memory's is a quarter of the RAM, at most 4G.\n"
            "Listening on all interfaces needs an explicit --listen 0.0.0.0:PORT.\n",
            tc_cpu_count());
 }

@@ -20,6 +20,8 @@ typedef struct {
     double body_timeout;           /* seconds from the headers to the end of the body; 0: none */
     double request_timeout;        /* seconds of work per request; 0: no deadline */
     double shutdown_grace;         /* seconds to let requests finish on SIGTERM */
+    char store[32];                /* the mesh store backend: "memory" */
+    long long cache_memory;        /* bytes of built reconstructions kept (the LRU's bound) */
 } tc_srv_config;
 
 enum { TC_CONFIG_RUN, TC_CONFIG_EXIT_OK, TC_CONFIG_EXIT_USAGE };

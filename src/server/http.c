@@ -26,6 +26,8 @@ typedef struct {
     double t0; /* tc_now_ms() at the first call */
     const tc_route *route;
     int route_index;
+    tc_path_params params; /* the {name} segments of a pattern route */
+    tc_query query;        /* GET arguments, copied at the first call */
     char method[16];
     char *path;
     tc_body body;
@@ -45,6 +47,7 @@ typedef struct {
     struct MHD_Connection *conn;
     const tc_http_state *srv;
     const char *accept; /* the Accept header (the connection's memory, kept while the request lives) */
+    const char *if_none_match; /* the If-None-Match header (the same) */
     tc_reply reply;
 } exchange;
 
@@ -68,7 +71,7 @@ static exchange *exchange_new(const tc_http_state *srv, const char *url, const c
     if (!ex->path) return free(ex), NULL;
     ex->t0 = tc_now_ms();
     snprintf(ex->method, sizeof ex->method, "%s", method ? method : "");
-    ex->route = tc_route_find(ex->path, &ex->route_index);
+    ex->route = tc_route_find(ex->path, &ex->route_index, &ex->params);
     tc_body_init(&ex->body, (size_t)srv->cfg->max_body);
     return ex;
 }
@@ -76,8 +79,24 @@ static exchange *exchange_new(const tc_http_state *srv, const char *url, const c
 static void exchange_free(exchange *ex) {
     if (ex->job != JOB_NONE) tc_reply_free(&ex->reply);
     tc_body_free(&ex->body);
+    tc_query_free(&ex->query);
     free(ex->path);
     free(ex);
+}
+
+/* Copies one GET argument (MHD_get_connection_values' iterator). */
+static enum MHD_Result take_argument(void *cls, enum MHD_ValueKind kind, const char *key, const char *value) {
+    (void)kind;
+    tc_query *q = cls;
+    if (q->n == TC_QUERY_MAX) return q->overflow = 1, MHD_NO;
+    q->key[q->n] = strdup(key ? key : "");
+    q->value[q->n] = strdup(value ? value : "");
+    if (!q->key[q->n] || !q->value[q->n]) {
+        free(q->key[q->n]), free(q->value[q->n]);
+        return q->overflow = 1, MHD_NO; /* refused as too many: the answer is a 400 either way */
+    }
+    q->n++;
+    return MHD_YES;
 }
 
 static void refuse(exchange *ex, tc_problem p, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -124,7 +143,8 @@ static void check_headers(const tc_http_state *srv, struct MHD_Connection *c, ex
         return refuse(ex, TC_PROBLEM_METHOD, "%s answers %s, not %.16s", ex->route->path, ex->route->allow, ex->method);
     if (atomic_load(&srv->draining))
         return refuse(ex, TC_PROBLEM_BUSY, "the server is shutting down; retry on another connection");
-    if (tc_route_takes_body(ex->route)) check_body_headers(srv, c, ex);
+    MHD_get_connection_values(c, MHD_GET_ARGUMENT_KIND, take_argument, &ex->query);
+    if (tc_route_takes_body(ex->route, ex->method)) check_body_headers(srv, c, ex);
 }
 
 /* "parse;dur=0.120, ..., encode;dur=0.050, total;dur=1.270" (milliseconds). */
@@ -161,9 +181,13 @@ static void add_headers(const tc_http_state *srv, const exchange *ex, const tc_r
                         const char *ctype) {
     char timing[256], retry[16];
     server_timing(ex, &r->res, timing, sizeof timing);
-    MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, ctype);
+    if (ctype) MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, ctype); /* none on a 204 or 304 */
     MHD_add_response_header(resp, "Server-Timing", timing);
     if (r->allow) MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, r->allow);
+    if (r->etag[0]) MHD_add_response_header(resp, MHD_HTTP_HEADER_ETAG, r->etag);
+    if (r->cache_control) MHD_add_response_header(resp, MHD_HTTP_HEADER_CACHE_CONTROL, r->cache_control);
+    if (r->vary) MHD_add_response_header(resp, MHD_HTTP_HEADER_VARY, r->vary);
+    if (r->location[0]) MHD_add_response_header(resp, MHD_HTTP_HEADER_LOCATION, r->location);
     warning_headers(r, resp);
     if (r->retry_after > 0) {
         snprintf(retry, sizeof retry, "%d", r->retry_after);
@@ -299,7 +323,9 @@ static tc_api_limits limits(const tc_srv_config *cfg, tc_budget *memory, double 
 
 /* Runs the route (on a worker for POST routes: it touches no connection state). */
 static void run(const tc_http_state *srv, exchange *ex, tc_reply *r) {
-    tc_route_input in = {ex->body.buf ? ex->body.buf : "", ex->body.len, ex->accept, limits(srv->cfg, (tc_budget *)&srv->memory, ex->t0)};
+    tc_route_input in = {ex->body.buf ? ex->body.buf : "", ex->body.len, ex->accept,
+                         limits(srv->cfg, (tc_budget *)&srv->memory, ex->t0), &ex->params, &ex->query,
+                         ex->if_none_match, srv->meshes};
     long long bad;
     if (past_deadline(srv->cfg, ex))
         return tc_reply_problem(r, TC_PROBLEM_TIMEOUT, "the request took too long to arrive");
@@ -308,7 +334,7 @@ static void run(const tc_http_state *srv, exchange *ex, tc_reply *r) {
         snprintf(detail, sizeof detail, "the body is not UTF-8 (byte %lld)", bad);
         return tc_reply_problem(r, TC_PROBLEM_MALFORMED, detail);
     }
-    ex->route->fn(&in, r);
+    tc_route_handler(ex->route, ex->method)(&in, r);
     /* Not every phase of the API watches the deadline; the answer keeps the promise. */
     if (r->status < 500 && past_deadline(srv->cfg, ex)) {
         char detail[128];
@@ -342,6 +368,7 @@ static void job_run(void *arg, int cancelled) {
 static enum MHD_Result submit_job(const tc_http_state *srv, struct MHD_Connection *c, exchange *ex) {
     ex->conn = c, ex->srv = srv;
     ex->accept = header(c, MHD_HTTP_HEADER_ACCEPT);
+    ex->if_none_match = header(c, MHD_HTTP_HEADER_IF_NONE_MATCH);
     tc_reply_init(&ex->reply);
     ex->job = JOB_QUEUED;
     MHD_set_connection_option(c, MHD_CONNECTION_OPTION_TIMEOUT, 0u);
@@ -374,10 +401,11 @@ static enum MHD_Result last_call(const tc_http_state *srv, struct MHD_Connection
     if (ex->job == JOB_DONE) return reply_job(srv, c, ex);
     if (ex->job == JOB_QUEUED) return MHD_YES; /* not expected while suspended; the worker resumes it */
     if (ex->pending) return answer_pending(srv, c, ex);
-    if (tc_route_takes_body(ex->route)) return submit_job(srv, c, ex);
-    tc_reply r; /* GET routes answer from memory: inline */
+    if (tc_route_on_pool(ex->route, ex->method)) return submit_job(srv, c, ex);
+    tc_reply r; /* the other GET routes answer from memory: inline */
     tc_reply_init(&r);
     ex->accept = header(c, MHD_HTTP_HEADER_ACCEPT);
+    ex->if_none_match = header(c, MHD_HTTP_HEADER_IF_NONE_MATCH);
     run(srv, ex, &r);
     return send_reply(srv, c, ex, &r);
 }

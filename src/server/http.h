@@ -23,6 +23,7 @@ typedef struct {
     tc_pool *pool;       /* runs the POST routes off the I/O threads */
     tc_budget memory;    /* what renders in flight hold (--max-memory); an answer's share is
                           * given back when libmicrohttpd frees it */
+    struct tc_meshes *meshes; /* the stored meshes (server/meshes.h) */
 } tc_http_state;
 
 enum MHD_Result tc_http_access(void *cls, struct MHD_Connection *c, const char *url, const char *method,

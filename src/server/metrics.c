@@ -24,6 +24,7 @@ static atomic_ullong sum_ns[SLOTS];
 static atomic_ullong triangles_total, pixels_total;
 static atomic_long in_flight;
 static atomic_long jobs_waiting, jobs_running; /* the worker pool's, as http.c moves jobs */
+static atomic_ullong build_buckets[NB + 1], build_sum_ns; /* tocher_mesh_build_seconds, as buckets[] */
 
 void tc_metrics_init(const char *const *route_labels, int n) {
     nroutes = n < TC_METRICS_MAX_ROUTES ? n : TC_METRICS_MAX_ROUTES;
@@ -57,6 +58,13 @@ void tc_metrics_answered(int route, int status, double seconds, int64_t triangle
     add(&sum_ns[s], seconds > 0 ? (unsigned long long)(seconds * 1e9) : 0);
     if (triangles > 0) add(&triangles_total, (unsigned long long)triangles);
     if (pixels > 0) add(&pixels_total, (unsigned long long)pixels);
+}
+
+void tc_metrics_mesh_built(double seconds) {
+    int b = 0;
+    while (b < NB && seconds > bounds[b]) b++;
+    add(&build_buckets[b], 1);
+    add(&build_sum_ns, seconds > 0 ? (unsigned long long)(seconds * 1e9) : 0);
 }
 
 void tc_metrics_end(int route, int answered) {
@@ -109,9 +117,22 @@ void tc_metrics_deadline_closed(int body) { atomic_fetch_add(&closed_late[body ?
 
 void tc_metrics_budget(const tc_budget *b) { memory_budget = b; }
 
+static void write_build_histogram(tc_strbuf *o) {
+    const char *h = "tocher_mesh_build_seconds";
+    header(o, h, "histogram", "Time to parse, validate and build a stored mesh (POST, or a rebuild after eviction).");
+    unsigned long long cum = 0;
+    for (int b = 0; b <= NB; b++) {
+        cum += get(&build_buckets[b]);
+        if (b < NB) tc_strbuf_printf(o, "%s_bucket{le=\"%g\"} %llu\n", h, bounds[b], cum);
+        else tc_strbuf_printf(o, "%s_bucket{le=\"+Inf\"} %llu\n", h, cum);
+    }
+    tc_strbuf_printf(o, "%s_sum %.9f\n%s_count %llu\n", h, (double)get(&build_sum_ns) * 1e-9, h, cum);
+}
+
 void tc_metrics_write(tc_strbuf *o) {
     write_requests(o);
     write_histogram(o);
+    write_build_histogram(o);
     header(o, "tocher_triangles_processed_total", "counter", "Triangles reconstructed.");
     tc_strbuf_printf(o, "tocher_triangles_processed_total %llu\n", get(&triangles_total));
     header(o, "tocher_pixels_processed_total", "counter", "Pixels rendered.");

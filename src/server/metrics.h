@@ -8,7 +8,7 @@
 #include "io/budget.h"
 #include "io/strbuf.h"
 
-#define TC_METRICS_MAX_ROUTES 15
+#define TC_METRICS_MAX_ROUTES 24
 
 /* Names the route slots 0 .. n-1 (labels must outlive the process); requests
  * matching no route are counted under "unmatched". Call once, before serving. */
@@ -25,6 +25,10 @@ void tc_metrics_end(int route, int answered);
 
 /* Adds to the requests waiting for a worker and to those computing on one. */
 void tc_metrics_workers(int waiting, int running);
+
+/* A stored mesh was parsed, validated and built (POST, or a rebuild after an
+ * eviction) in this many seconds: the tocher_mesh_build_seconds histogram. */
+void tc_metrics_mesh_built(double seconds);
 
 /* Requests begun and not yet ended. */
 long tc_metrics_in_flight(void);

@@ -9,6 +9,8 @@ void tc_reply_init(tc_reply *r) {
     tc_api_result_init(&r->res);
     r->allow = NULL;
     r->retry_after = 0;
+    r->etag[0] = r->location[0] = '\0';
+    r->cache_control = r->vary = NULL;
 }
 
 void tc_reply_free(tc_reply *r) {
@@ -42,4 +44,17 @@ void tc_reply_problem(tc_reply *r, tc_problem p, const char *detail) {
     tc_strbuf_reset(&r->body);
     tc_api_problem_write(&r->body, r->status, problems[p].type, problems[p].title, &d);
     tc_diags_free(&d);
+}
+
+void tc_reply_api(tc_reply *r, int status, int json) {
+    r->status = status;
+    if (status == 200) {
+        if (json) tc_api_add_timings(&r->body, &r->res);
+        r->content_type = r->res.content_type ? r->res.content_type : "application/octet-stream";
+        return;
+    }
+    tc_strbuf_reset(&r->body);
+    tc_api_problem(&r->body, &r->res);
+    r->retry_after = r->res.retry_after;
+    r->content_type = TC_PROBLEM_TYPE;
 }

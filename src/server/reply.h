@@ -16,6 +16,11 @@ typedef struct {
     tc_api_result res;        /* phase timings (Server-Timing), triangles, pixels */
     const char *allow;        /* Allow header of a 405, else NULL */
     int retry_after;          /* seconds for a Retry-After header, 0: none */
+    /* HTTP caching and resources: "" / NULL for none. */
+    char etag[96];             /* a strong ETag, quotes included */
+    const char *cache_control; /* static string */
+    const char *vary;          /* static string */
+    char location[128];        /* Location of a created resource */
 } tc_reply;
 
 void tc_reply_init(tc_reply *r);
@@ -39,5 +44,9 @@ typedef enum {
 void tc_reply_problem(tc_reply *r, tc_problem p, const char *detail);
 
 int tc_problem_status(tc_problem p);
+
+/* The API's status and body into the reply: on 200 the result's content type
+ * (and "timings" added when json), else a problem document (tc_api_problem). */
+void tc_reply_api(tc_reply *r, int status, int json);
 
 #endif

@@ -16,6 +16,7 @@
 #include "server/http.h"
 #include "server/log.h"
 #include "server/metrics.h"
+#include "server/meshes.h"
 #include "server/server.h"
 
 struct tc_server {
@@ -99,8 +100,11 @@ tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
     s->quiesced = MHD_INVALID_SOCKET;
     s->conns = tc_conns_start(cfg);
     if (!s->conns) return free(s), snprintf(err, errlen, "cannot start the deadline thread"), NULL;
+    s->state.meshes = tc_meshes_new(cfg->store, cfg->cache_memory, err, errlen);
+    if (!s->state.meshes) return tc_conns_stop(s->conns), free(s), NULL;
     s->state.pool = tc_pool_new((int)cfg->workers, (int)cfg->max_queue);
     if (!s->state.pool) {
+        tc_meshes_free(s->state.meshes);
         tc_conns_stop(s->conns);
         free(s);
         return snprintf(err, errlen, "cannot start %lld worker threads", cfg->workers), NULL;
@@ -108,6 +112,7 @@ tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
     s->d = start(s, cfg, &ss);
     if (!s->d) {
         tc_pool_free(s->state.pool);
+        tc_meshes_free(s->state.meshes);
         tc_conns_stop(s->conns);
         snprintf(err, errlen, "cannot listen on %s:%lld (in use, or not an address of this host?)", cfg->host,
                  cfg->port);
@@ -164,5 +169,6 @@ void tc_server_stop(tc_server *s) {
     MHD_stop_daemon(s->d);
     tc_conns_stop(s->conns); /* after the daemon: no connection is left to notify */
     if (s->quiesced != MHD_INVALID_SOCKET) close(s->quiesced); /* only after stop: see MHD_quiesce_daemon */
+    tc_meshes_free(s->state.meshes); /* after the pool and the daemon: no route holds a job */
     free(s);
 }

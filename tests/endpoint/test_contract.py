@@ -306,6 +306,25 @@ def raw(d, data, timeout=20):
         s.close()
 
 
+# Stored meshes: a templated path is sent with the id of a mesh POSTed to that daemon, and
+# tile (1, 0, 1) as PNG; DELETE gets a mesh of its own, so the other operations keep theirs.
+MESH_IDS = {}
+GHOST = "A" * 24
+
+
+def mesh_id(d, doc=None, key="main"):
+    """The id of doc (default: square-light.json) POSTed to daemon d once."""
+    if (d.port, key) not in MESH_IDS:
+        r = send(d, "post", "/v1/meshes", doc or load("square-light.json"))
+        MESH_IDS[(d.port, key)] = json.loads(r.body)["id"]
+    return MESH_IDS[(d.port, key)]
+
+
+def concrete(path, mid, fmt="png"):
+    return path.replace("{id}", mid).replace("{z}", "1").replace("{x}", "0").replace("{y}", "1") \
+        .replace("{format}", fmt)
+
+
 def documented(op, status):
     r = op["responses"].get(str(status))
     return deref(r) if r is not None else None
@@ -319,7 +338,10 @@ def check_response(label, op, resp, request=None):
         errs.append("status %d is not documented (%s)" % (resp.status, resp.body[:160]))
     else:
         content = spec.get("content", {})
-        if resp.ctype() not in content:
+        if not content:  # 204, 304: no body
+            if resp.body:
+                errs.append("a %d with a body" % resp.status)
+        elif resp.ctype() not in content:
             errs.append("Content-Type %r, documented %s" % (resp.ctype(), sorted(content)))
         else:
             errs += body_errors(content[resp.ctype()].get("schema", {}), resp, request)
@@ -408,6 +430,50 @@ def grid(n):
     return {"vertices": vs, "triangles": ts, "values": [x * x + y for x, y in vs]}
 
 
+def stored_gets(D, S, N, ops):
+    """The documented answers of the stored-mesh GET and DELETE operations, provoked."""
+    mid = mesh_id(D)
+    for (tpath, m), op in sorted(ops.items()):
+        if "{id}" not in tpath or m not in ("get", "delete"):
+            continue
+        oid = op["operationId"]
+        for status in sorted(int(s) for s in op["responses"] if int(s) >= 300):
+            label = "%s %d" % (oid, status)
+            path = concrete(tpath, mid)
+            if status == 304:
+                etag = send(D, m, path).headers.get("ETag")
+                r = send(D, m, path, headers={"If-None-Match": etag})
+            elif status == 400:
+                r = send(D, m, path + "?size=0")
+            elif status == 404:
+                r = send(D, m, concrete(tpath, GHOST))
+            elif status == 413:
+                T = Daemon("pixels", "--max-pixels", "100")
+                r = send(T, m, concrete(tpath, mesh_id(T)) + "?size=11")
+                label += " (over --max-pixels)"
+            elif status == 422:
+                rgb = dict(grid(2), values=[[0.1 * k] * 4 for k in range(9)])
+                r = send(D, m, concrete(tpath, mesh_id(D, rgb, "four")))
+                label += " (png of 4 channels)"
+            elif status == 500:
+                if "tiles" not in tpath:
+                    say("skip %s: only out of memory or a failed store answers it" % label)
+                    continue
+                r = send(N, m, concrete(tpath, mesh_id(N)))
+                label += " (no image library)"
+            elif status == 503:
+                if "tiles" not in tpath:  # a cached mesh's description and ordinates are quick
+                    say("skip %s: only a shutdown or a slow rebuild answers it" % label)
+                    continue
+                r = send(S, m, concrete(tpath, mesh_id(S), "raw") + "?size=1024")
+                label += " (past --request-timeout 0.02)"
+            else:
+                check(label, False, "the test does not know how to provoke %d: teach it" % status)
+                continue
+            check_response(label, op, r)
+            check("%s: got %d" % (label, status), r.status == status, "%d %s" % (r.status, r.body[:200]))
+
+
 def live(sends):
     ops = {(p, m): op for p, m, op in operations()}
     by_path = {p: op for p, m, op in operations() if m == "post"}
@@ -415,9 +481,10 @@ def live(sends):
     for label, path, m, req in sends:
         op = ops[(path, m)]
         try:
-            resp = send(D, m, path, req)
+            mid = mesh_id(D, load("shadow-edges.json"), "delete") if m == "delete" else mesh_id(D)
+            resp = send(D, m, concrete(path, mid), req)
             check_response(label, op, resp, req)
-            check("%s: 200" % label, resp.status == 200, "%d %s" % (resp.status, resp.body[:200]))
+            check("%s: success" % label, resp.status in (200, 201, 204), "%d %s" % (resp.status, resp.body[:200]))
         except Exception as e:  # noqa: BLE001 - a refused connection is a failure too
             check(label, False, repr(e))
 
@@ -432,8 +499,10 @@ def live(sends):
     # Each documented error of each POST operation, provoked.
     sq = load("square-light.json")
     pts = load("points.json")
+    look = {"viewport": small["viewport"], "format": "png"}
     valid = {"/v1/ordinates": sq, "/v1/evaluate": dict(sq, **pts), "/v1/render": small,
-             "/v1/compare": dict(sq, reference={"points": [[0.5, 0.5]], "values": [0.2]})}
+             "/v1/compare": dict(sq, reference={"points": [[0.5, 0.5]], "values": [0.2]}),
+             "/v1/meshes": sq, "/v1/meshes/{id}/evaluate": pts, "/v1/meshes/{id}/render": look}
     over_vertices = grid(50)  # 2601 vertices > --max-vertices 2000, the body under --max-body
     S = Daemon("strict", "--threads", "1", "--render-threads", "1", "--request-timeout", "0.02")
     N = Daemon("noimage", "--threads", "1", env={"TOCHER_IMAGE_LIB": os.path.join(TMP, "no-such-plugin.so")})
@@ -443,11 +512,17 @@ def live(sends):
             "/v1/render": dict(heavy, viewport={"x0": 0, "y0": 0, "x1": 1, "y1": 1, "width": 2000, "height": 2000},
                                format="raw"),
             "/v1/compare": dict(heavy, reference={"points": [[(i % 997) / 997, 0.5] for i in range(100000)],
-                                                  "values": [0.5] * 100000})}
-    for path, op in sorted(by_path.items()):
+                                                  "values": [0.5] * 100000}),
+            "/v1/meshes": dict(grid(300), range="local"),
+            "/v1/meshes/{id}/evaluate": {"points": [[(i % 997) / 997, (i % 991) / 991] for i in range(200000)]},
+            "/v1/meshes/{id}/render": {"viewport": {"x0": 0, "y0": 0, "x1": 1, "y1": 1, "width": 2000,
+                                                    "height": 2000}, "format": "raw"}}
+    stored = {"/v1/meshes/{id}/render": dict(look, exposure=100)}  # 422: exposure out of range
+    for tpath, op in sorted(by_path.items()):
         oid = op["operationId"]
-        for status in sorted(int(s) for s in op["responses"] if s != "200"):
+        for status in sorted(int(s) for s in op["responses"] if int(s) >= 300):
             label = "%s %d" % (oid, status)
+            path = concrete(tpath, mesh_id(D))
             try:
                 if status == 400:
                     r = send(D, "post", path, b'{"vertices": [[0, 0], [1, 0]')
@@ -457,20 +532,24 @@ def live(sends):
                     check_response(label + " (Content-Length over --max-body)", op, r)
                     check("%s (Content-Length over --max-body): got 413" % label, r.status == 413,
                           "%d %s" % (r.status, r.body[:200]))
-                    r = send(D, "post", path, dict(valid[path], **over_vertices))
+                    if "{id}" in tpath:
+                        continue
+                    r = send(D, "post", path, dict(valid[tpath], **over_vertices))
                     label += " (vertices over --max-vertices)"
                 elif status == 415:
-                    r = send(D, "post", path, json.dumps(valid[path]).encode(), {"Content-Type": "text/plain"})
+                    r = send(D, "post", path, json.dumps(valid[tpath]).encode(), {"Content-Type": "text/plain"})
+                elif status == 404:
+                    r = send(D, "post", concrete(tpath, GHOST), valid[tpath])
                 elif status == 422:
-                    r = send(D, "post", path, zero_area(valid[path]))
+                    r = send(D, "post", path, stored[tpath] if tpath in stored else zero_area(valid[tpath]))
                 elif status == 500:
-                    if path != "/v1/render":
+                    if tpath not in ("/v1/render", "/v1/meshes/{id}/render"):
                         say("skip %s: only out of memory answers it" % label)
                         continue
-                    r = send(N, "post", path, dict(small, format="png"))
+                    r = send(N, "post", concrete(tpath, mesh_id(N)), dict(valid[tpath], format="png"))
                     label += " (no image library)"
                 elif status == 503:
-                    r = send(S, "post", path, slow[path])
+                    r = send(S, "post", concrete(tpath, mesh_id(S)) if "{id}" in tpath else path, slow[tpath])
                     label += " (past --request-timeout 0.02)"
                 else:
                     check(label, False, "the test does not know how to provoke %d: teach it" % status)
@@ -485,12 +564,14 @@ def live(sends):
     for method, path in [("get", "/nowhere"), ("post", "/v1/nowhere"), ("get", "/v1/ordinates/extra")]:
         r = send(D, method, path, None if method == "get" else valid["/v1/ordinates"])
         check_response("%s %s" % (method.upper(), path), {"responses": {"404": nf}}, r)
-    for path in DOC["paths"]:
-        other = "get" if "post" in DOC["paths"][path] else "post"
+    stored_gets(D, S, N, ops)
+    for tpath in DOC["paths"]:
+        path = concrete(tpath, mesh_id(D))
+        other = "get" if "post" in DOC["paths"][tpath] else "post"
         r = send(D, other, path, None if other == "get" else b"{}")
         check_response("%s %s" % (other.upper(), path), {"responses": {"405": mna}}, r)
         allow = {a.strip() for a in (r.headers.get("Allow") or "").split(",")}
-        want = {m.upper() for m in DOC["paths"][path] if m in METHODS}
+        want = {m.upper() for m in DOC["paths"][tpath] if m in METHODS}
         check("%s %s: Allow %s names the documented methods" % (other.upper(), path, sorted(allow)),
               want <= allow, "documented %s" % sorted(want))
 

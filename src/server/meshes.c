@@ -1,0 +1,262 @@
+/* meshes.c — the stored-mesh handlers. The store is the truth (an id exists
+ * while the store holds its bytes, on any replica); the cache only saves the
+ * build: every answer first asks the store, then takes the built job from the
+ * cache, which rebuilds it from the store's bytes after an eviction. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/cache.h"
+#include "io/sha256.h"
+#include "io/store.h"
+#include "server/etag.h"
+#include "server/meshes.h"
+#include "server/metrics.h"
+#include "server/tiles.h"
+
+struct tc_meshes {
+    tc_store *store;
+    tc_cache *cache;
+};
+
+#define IMMUTABLE "public, max-age=31536000, immutable"
+static const char not_found[] = "mesh not found; POST it again";
+
+static void free_job(void *v) { tc_api_job_free(v); }
+
+tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, char *err, size_t errlen) {
+    if (strcmp(store, "memory")) return snprintf(err, errlen, "unknown store '%s' (memory)", store), NULL;
+    tc_meshes *m = calloc(1, sizeof *m);
+    if (m) m->store = tc_store_memory_new();
+    if (m && m->store) m->cache = tc_cache_new((size_t)cache_bytes, free_job);
+    if (!m || !m->cache) {
+        if (m) tc_store_free(m->store);
+        free(m);
+        return snprintf(err, errlen, "out of memory for the mesh store"), NULL;
+    }
+    return m;
+}
+
+void tc_meshes_free(tc_meshes *m) {
+    if (!m) return;
+    tc_cache_free(m->cache);
+    tc_store_free(m->store);
+    free(m);
+}
+
+void tc_meshes_write_metrics(tc_meshes *m, tc_strbuf *o) {
+    tc_cache_stats s;
+    tc_cache_get_stats(m->cache, &s);
+    tc_strbuf_printf(o, "# HELP tocher_cache_hits_total Uses of a stored mesh whose reconstruction was built.\n"
+                        "# TYPE tocher_cache_hits_total counter\ntocher_cache_hits_total %llu\n", s.hits);
+    tc_strbuf_printf(o, "# HELP tocher_cache_misses_total Uses of a stored mesh that had to build it.\n"
+                        "# TYPE tocher_cache_misses_total counter\ntocher_cache_misses_total %llu\n", s.misses);
+    tc_strbuf_printf(o, "# HELP tocher_cache_evictions_total Reconstructions dropped to keep the cache bound.\n"
+                        "# TYPE tocher_cache_evictions_total counter\ntocher_cache_evictions_total %llu\n",
+                     s.evictions);
+    tc_strbuf_printf(o, "# HELP tocher_cache_bytes Memory of the cached reconstructions (estimated).\n"
+                        "# TYPE tocher_cache_bytes gauge\ntocher_cache_bytes %zu\n", s.bytes);
+    tc_strbuf_printf(o, "# HELP tocher_meshes_stored Meshes in the store.\n"
+                        "# TYPE tocher_meshes_stored gauge\ntocher_meshes_stored %ld\n", tc_store_count(m->store));
+}
+
+/* ---- the job of an id ---- */
+
+/* What a cache miss needs: a job already built (POST), else the store's bytes
+ * to build it from, under the asking request's limits. */
+typedef struct {
+    tc_meshes *m;
+    const tc_api_limits *lim;
+    tc_api_job *prebuilt;
+    tc_api_result res; /* the rebuild's own result: its warnings are the job's */
+} build_ctx;
+
+enum { BUILD_GONE = 404, BUILD_STORE_FAILED = 500 };
+
+static int build_job(void *arg, const char *id, void **value, size_t *bytes) {
+    build_ctx *b = arg;
+    tc_api_job *J = b->prebuilt;
+    b->prebuilt = NULL;
+    if (!J) {
+        char *text = NULL;
+        size_t n = 0;
+        int got = tc_store_get(b->m->store, id, &text, &n);
+        if (got <= 0) return got == 0 ? BUILD_GONE : BUILD_STORE_FAILED;
+        double t0 = tc_now_ms();
+        int rc = tc_api_job_build(text, n, b->lim, &J, &b->res);
+        free(text);
+        tc_metrics_mesh_built((tc_now_ms() - t0) * 1e-3);
+        if (rc != 200) return rc;
+    }
+    *value = J;
+    *bytes = tc_api_job_info(J)->bytes;
+    return 0;
+}
+
+/* The job of in's {id} in *e (release it), or 0 with the reply filled: 404
+ * for ids the store does not hold, the rebuild's problem if it failed. */
+static int acquire(const tc_route_input *in, tc_reply *out, tc_cache_entry **e) {
+    build_ctx b = {in->meshes, &in->lim, NULL, {0}};
+    tc_api_result_init(&b.res);
+    int rc = tc_cache_acquire(in->meshes->cache, in->params->seg[0], build_job, &b, e);
+    for (int p = 0; p < TC_NPHASES; p++) out->res.ms[p] += b.res.ms[p];
+    if (rc == BUILD_GONE) tc_reply_problem(out, TC_PROBLEM_NOT_FOUND, not_found);
+    else if (rc == BUILD_STORE_FAILED || rc < 0) tc_reply_problem(out, TC_PROBLEM_INTERNAL, "the mesh store failed");
+    else if (rc) {
+        out->status = rc;
+        tc_strbuf_reset(&out->body);
+        tc_api_problem(&out->body, &b.res);
+        out->content_type = TC_PROBLEM_TYPE;
+    }
+    tc_api_result_free(&b.res);
+    return rc == 0;
+}
+
+/* Whether the store holds in's {id}; else the 404 (or 500) is in out. */
+static int exists(const tc_route_input *in, tc_reply *out) {
+    const char *id = in->params->seg[0];
+    int got = tc_content_id_valid(id) ? tc_store_get(in->meshes->store, id, NULL, NULL) : 0;
+    if (got < 0) tc_reply_problem(out, TC_PROBLEM_INTERNAL, "the mesh store failed");
+    else if (got == 0) tc_reply_problem(out, TC_PROBLEM_NOT_FOUND, not_found);
+    return got == 1;
+}
+
+/* Sets the caching headers of a stored-mesh GET; 1 if the client's copy is
+ * current (then the reply is a 304 with no body, and no work is done). */
+static int not_modified(const tc_route_input *in, tc_reply *out, const char *meaning) {
+    tc_etag_make(out->etag, sizeof out->etag, in->params->seg[0], meaning);
+    out->cache_control = IMMUTABLE;
+    if (!tc_etag_none_match(in->if_none_match, out->etag)) return 0;
+    out->status = 304;
+    out->content_type = NULL;
+    tc_strbuf_reset(&out->body);
+    return 1;
+}
+
+/* A successful or not-modified GET keeps its caching headers; an error drops them. */
+static void keep_cache_headers_if_ok(tc_reply *out) {
+    if (out->status == 200 || out->status == 304) return;
+    out->etag[0] = '\0';
+    out->cache_control = NULL;
+}
+
+/* ---- the routes ---- */
+
+void tc_meshes_post(const tc_route_input *in, tc_reply *out) {
+    double t0 = tc_now_ms();
+    tc_api_job *J = NULL;
+    int rc = tc_api_job_build(in->body, in->len, &in->lim, &J, &out->res);
+    if (rc != 200) return tc_reply_api(out, rc, 1);
+    tc_metrics_mesh_built((tc_now_ms() - t0) * 1e-3);
+    tc_strbuf canon;
+    tc_strbuf_init(&canon);
+    tc_api_job_canonical(J, &canon);
+    char id[TC_CONTENT_ID_LEN + 1];
+    tc_content_id(canon.buf, canon.len, id);
+    int existed = 0;
+    int stored = canon.oom ? -1 : tc_store_put(in->meshes->store, id, canon.buf, canon.len, &existed);
+    tc_strbuf_free(&canon);
+    if (stored) {
+        tc_api_job_free(J);
+        return tc_reply_problem(out, TC_PROBLEM_INTERNAL, "out of memory storing the mesh");
+    }
+    /* Into the cache (when another request put it there first, this job is freed instead). */
+    build_ctx b = {in->meshes, &in->lim, J, {0}};
+    tc_api_result_init(&b.res);
+    tc_cache_entry *e = NULL;
+    int got = tc_cache_acquire(in->meshes->cache, id, build_job, &b, &e);
+    tc_api_job_free(b.prebuilt);
+    tc_api_result_free(&b.res);
+    if (got) return tc_reply_problem(out, TC_PROBLEM_INTERNAL, "out of memory caching the mesh");
+    tc_api_job_describe(tc_cache_value(e), id, &out->body);
+    tc_cache_release(in->meshes->cache, e);
+    tc_reply_api(out, 200, 1);
+    out->status = existed ? 200 : 201;
+    snprintf(out->location, sizeof out->location, "/v1/meshes/%s", id);
+}
+
+void tc_meshes_get(const tc_route_input *in, tc_reply *out) {
+    tc_cache_entry *e;
+    if (!exists(in, out) || not_modified(in, out, "mesh") || !acquire(in, out, &e)) return keep_cache_headers_if_ok(out);
+    tc_api_job_describe(tc_cache_value(e), in->params->seg[0], &out->body);
+    tc_cache_release(in->meshes->cache, e);
+    out->status = 200;
+    out->content_type = TC_JSON_TYPE; /* no "timings": a strong ETag promises the same bytes */
+}
+
+void tc_meshes_delete(const tc_route_input *in, tc_reply *out) {
+    const char *id = in->params->seg[0];
+    int gone = tc_content_id_valid(id) ? tc_store_del(in->meshes->store, id) : 0;
+    /* After the store: a render holding the job keeps it until it releases it. */
+    if (gone >= 0) tc_cache_remove(in->meshes->cache, id);
+    if (gone < 0) return tc_reply_problem(out, TC_PROBLEM_INTERNAL, "the mesh store failed");
+    if (gone == 0) return tc_reply_problem(out, TC_PROBLEM_NOT_FOUND, not_found);
+    out->status = 204;
+    out->content_type = NULL;
+    tc_strbuf_reset(&out->body);
+}
+
+void tc_meshes_ordinates(const tc_route_input *in, tc_reply *out) {
+    tc_cache_entry *e;
+    if (!exists(in, out) || not_modified(in, out, "ordinates") || !acquire(in, out, &e))
+        return keep_cache_headers_if_ok(out);
+    int rc = tc_api_job_ordinates(tc_cache_value(e), &in->lim, &out->body, &out->res);
+    tc_cache_release(in->meshes->cache, e);
+    tc_reply_api(out, rc, 0); /* no "timings": see tc_meshes_get */
+    keep_cache_headers_if_ok(out);
+}
+
+void tc_meshes_evaluate(const tc_route_input *in, tc_reply *out) {
+    tc_cache_entry *e;
+    if (!exists(in, out) || !acquire(in, out, &e)) return;
+    int rc = tc_api_job_evaluate(tc_cache_value(e), in->body, in->len, &in->lim, &out->body, &out->res);
+    tc_cache_release(in->meshes->cache, e);
+    tc_reply_api(out, rc, 1);
+}
+
+void tc_meshes_render(const tc_route_input *in, tc_reply *out) {
+    tc_cache_entry *e;
+    if (!exists(in, out) || !acquire(in, out, &e)) return;
+    int rc = tc_api_job_render(tc_cache_value(e), in->body, in->len, in->accept, &in->lim, &out->body, &out->res);
+    tc_cache_release(in->meshes->cache, e);
+    tc_reply_api(out, rc, 0);
+    out->vary = "Accept";
+}
+
+/* The tile's look: its query over the defaults of a /v1/render body. 0, or
+ * 400 in out when the background does not fit the mesh's channels. */
+static int tile_look(const tc_tile_req *t, const tc_api_mesh_info *info, tc_api_look *look, tc_reply *out) {
+    memset(look, 0, sizeof *look);
+    tc_tile_viewport(t, info->bbox, &look->viewport);
+    look->format = t->format, look->exposure = t->exposure, look->overlay = t->overlay, look->linear = t->linear;
+    if (t->nbackground > 1 && t->nbackground != info->channels) {
+        char detail[128];
+        snprintf(detail, sizeof detail, "background: %d values for a mesh of %d channels (give 1 or %d)",
+                 t->nbackground, info->channels, info->channels);
+        tc_reply_problem(out, TC_PROBLEM_MALFORMED, detail);
+        return 400;
+    }
+    look->has_background = t->nbackground > 0;
+    for (int c = 0; c < info->channels && look->has_background; c++)
+        look->background[c] = t->background[t->nbackground > 1 ? c : 0];
+    return 0;
+}
+
+void tc_meshes_tile(const tc_route_input *in, tc_reply *out) {
+    tc_tile_req t;
+    char detail[200], meaning[600];
+    int bad = tc_tile_parse(in->params, in->query, &t, detail, sizeof detail);
+    if (bad) return tc_reply_problem(out, bad == 404 ? TC_PROBLEM_NOT_FOUND : TC_PROBLEM_MALFORMED, detail);
+    tc_tile_meaning(&t, meaning, sizeof meaning);
+    tc_cache_entry *e;
+    if (!exists(in, out) || not_modified(in, out, meaning) || !acquire(in, out, &e))
+        return keep_cache_headers_if_ok(out);
+    const tc_api_job *J = tc_cache_value(e);
+    tc_api_look look;
+    if (tile_look(&t, tc_api_job_info(J), &look, out) == 0) {
+        int rc = tc_api_job_render_look(J, &look, &in->lim, &out->body, &out->res);
+        tc_reply_api(out, rc, 0);
+    }
+    tc_cache_release(in->meshes->cache, e);
+    keep_cache_headers_if_ok(out);
+}
