@@ -164,6 +164,7 @@ static void add_headers(const tc_http_state *srv, const exchange *ex, const tc_r
     MHD_add_response_header(resp, MHD_HTTP_HEADER_CONTENT_TYPE, ctype);
     MHD_add_response_header(resp, "Server-Timing", timing);
     if (r->allow) MHD_add_response_header(resp, MHD_HTTP_HEADER_ALLOW, r->allow);
+    if (r->cache_control) MHD_add_response_header(resp, MHD_HTTP_HEADER_CACHE_CONTROL, r->cache_control);
     warning_headers(r, resp);
     if (r->retry_after > 0) {
         snprintf(retry, sizeof retry, "%d", r->retry_after);

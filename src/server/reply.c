@@ -9,6 +9,7 @@ void tc_reply_init(tc_reply *r) {
     tc_api_result_init(&r->res);
     r->allow = NULL;
     r->retry_after = 0;
+    r->cache_control = NULL;
 }
 
 void tc_reply_free(tc_reply *r) {

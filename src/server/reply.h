@@ -16,6 +16,7 @@ typedef struct {
     tc_api_result res;        /* phase timings (Server-Timing), triangles, pixels */
     const char *allow;        /* Allow header of a 405, else NULL */
     int retry_after;          /* seconds for a Retry-After header, 0: none */
+    const char *cache_control; /* Cache-Control header (static string), NULL: none */
 } tc_reply;
 
 void tc_reply_init(tc_reply *r);

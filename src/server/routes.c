@@ -5,6 +5,7 @@
 #include "io/api.h"
 #include "server/metrics.h"
 #include "server/routes.h"
+#include "server/viewer.h"
 #include "tocher.h"
 
 /* Every JSON answer carries a "timings" object, these (all phases 0) too. */
@@ -74,6 +75,7 @@ static const tc_route routes[] = {
     {"/healthz", "GET", "GET, HEAD", healthz},
     {"/metrics", "GET", "GET, HEAD", metrics},
     {"/v1/version", "GET", "GET, HEAD", version},
+    {"/viewer", "GET", "GET, HEAD", tc_viewer},
 };
 enum { NROUTES = sizeof routes / sizeof routes[0] };
 
