@@ -13,9 +13,8 @@ each is answered 200; that the screenshot is not blank and is dark where the rec
 places the page's own view transform puts those points; that the readout under a hovered
 point reports that point and /v1/evaluate's value and gradient there; that overlay and exposure
 ask for the tiles they should and change the image; that wheel zoom, drag pan and a two-finger
-pinch move the view as far as they should; and that a file chosen in the page is POSTed and the
-method switch stores and shows the same data with another method. Dropping a file (the same
-code path as choosing one) is not driven.
+pinch move the view as far as they should; and that a file dropped on the page (or chosen) is
+POSTed and the method switch stores and shows the same data with another method.
 One "ok"/"FAIL" line per check, then "N passed, N failed" (exit 1 on any failure). Without
 Chromium it installs Debian's package (as root or with sudo -n) and only if that fails says
 "skip" and counts nothing.
@@ -529,16 +528,18 @@ def main():
               % (v["scale"] / before["scale"], drift), abs(v["scale"] / before["scale"] - 2) < 1e-3 and drift < 1)
     page.call("Emulation.setTouchEmulationEnabled", {"enabled": False})
 
-    # A file chosen in the page: POSTed (same data, same id), then the method switch stores "linear".
-    path_json = os.path.join(TMP, "shadow.json")
-    with open(path_json, "w") as f:
+    # A file dropped on the page: POSTed (a render request's file as its mesh: same data, same id);
+    # then the method switch stores "linear"; then a file chosen with the file input is POSTed too.
+    dropped = os.path.join(TMP, "shadow-render.json")
+    with open(dropped, "w") as f:
         json.dump(dict(mesh, viewport={"x0": 0, "y0": 0, "x1": 1, "y1": 1, "width": 8, "height": 8}), f)
-    obj = page.call("Runtime.evaluate", {"expression": "document.getElementById('file')"})["result"]["objectId"]
-    page.call("DOM.setFileInputFiles", {"files": [path_json], "objectId": obj})
-    st6 = page.wait("the chosen file is POSTed and shown",
+    data = {"items": [], "files": [dropped], "dragOperationsMask": 1}
+    for kind in ("dragEnter", "dragOver", "drop"):
+        page.call("Input.dispatchDragEvent", {"type": kind, "x": cx, "y": cy, "data": data})
+    st6 = page.wait("the dropped file is POSTed and shown",
                     lambda st: not page.js("document.getElementById('method').disabled"))
     if st6:
-        check("a render request's file opens as its mesh (same id)", st6["mesh"] == mid, st6)
+        check("a dropped render request opens as its mesh (same id)", st6["mesh"] == mid, st6)
         page.js("(() => { const m = document.getElementById('method'); m.value = 'linear';"
                 " m.dispatchEvent(new Event('change')); })()")
         st7 = page.settled("the method switch shows another mesh", lambda st: st["mesh"] not in (None, st6["mesh"]))
@@ -551,6 +552,16 @@ def main():
                   any(r[1] == lid and r[6] == 200 for r in tile_requests(page).values()))
             check("the address bar names it", page.js("location.search") == "?mesh=" + lid,
                   page.js("location.search"))
+            chosen = os.path.join(TMP, "shadow-ps.json")
+            with open(chosen, "w") as f:
+                json.dump(dict(mesh, method="powell-sabin"), f)
+            obj = page.call("Runtime.evaluate", {"expression": "document.getElementById('file')"})["result"]
+            page.call("DOM.setFileInputFiles", {"files": [chosen], "objectId": obj["objectId"]})
+            st8 = page.settled("the chosen file is POSTed and shown",
+                               lambda st: st["mesh"] not in (None, mid, lid))
+            if st8:
+                check("it shows as powell-sabin", page.js("document.getElementById('method').value") == "powell-sabin"
+                      and "powell-sabin" in page.js("document.getElementById('info').textContent"))
     errors = browser.events_of("Runtime.exceptionThrown")
     check("still no script error", not errors, errors[:1])
     browser.close()
