@@ -16,7 +16,7 @@ LDFLAGS ?=
 
 DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev libmicrohttpd-dev libopenimageio-dev \
                    openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml \
-                   python3-jsonschema curl wrk
+                   python3-jsonschema curl wrk chromium
 
 CJSON_CFLAGS := $(shell pkg-config --cflags libcjson 2>/dev/null)
 CJSON_LIBS   := $(shell pkg-config --libs libcjson 2>/dev/null || echo -lcjson)
@@ -66,6 +66,8 @@ $(BUILD)/obj/%.o: %.c
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 $(BUILD)/obj/src/core/ct_span.o: ALL_CFLAGS += -Wno-psabi
+# The viewer page is assembled into viewer.o (.incbin), which -MMD does not see.
+$(BUILD)/obj/src/server/viewer.o: src/server/viewer.html
 
 $(BUILD)/libtocher_image.so: src/image/encode.cpp src/image/image.h src/image/format.h
 	@mkdir -p $(dir $@)

@@ -8,6 +8,7 @@
 #include "server/meshes.h"
 #include "server/metrics.h"
 #include "server/routes.h"
+#include "server/viewer.h"
 #include "tocher.h"
 
 /* Every JSON answer carries a "timings" object, these (all phases 0) too. */
@@ -72,7 +73,7 @@ static const tc_route routes[] = {
     {"/v1/meshes/{id}/evaluate", "POST", NULL, tc_meshes_evaluate, NULL, 1},
     {"/v1/meshes/{id}/render", "POST", NULL, tc_meshes_render, NULL, 1},
     {"/v1/meshes/{id}/tiles/{z}/{x}/{tile}", GET_ONLY, tc_meshes_tile, NULL, NULL, 1},
-    /* GET /viewer (viewer.c) goes here. */
+    {"/viewer", GET_ONLY, tc_viewer, NULL, NULL, 0},
 };
 enum { NROUTES = sizeof routes / sizeof routes[0] };
 
