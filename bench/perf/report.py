@@ -182,20 +182,46 @@ def section_stored(stored):
              "%.1f ms vs %.0f ms (medians of %d tiles): %.0f×" % (a["tile_median_s"] * 1e3, a["render_median_s"] * 1e3,
                                                                  a["samples"], a["ratio"]),
              "≥ 20×", "yes" if a["ratio"] >= 20 else "no"],
-            ["256² PNG tiles of a stored %d-triangle mesh, %d keep-alive clients (wrk, z = %d)" %
-             (b["triangles"], b["clients"], b["zoom"]),
+            ["256² PNG tiles of a stored %d-triangle mesh, %d keep-alive clients (wrk, the %d tiles of z = %d again "
+             "and again; defaults: the encoded-tile cache answers repeats)" %
+             (b["triangles"], b["clients"], 4 ** b["zoom"], b["zoom"]),
              "%.0f tiles/s (%d GETs in %.1f s), p50 %.1f ms, p99 %.1f ms, %d errors" %
              (b["tiles_per_s"], b["requests"], b["duration_us"] * 1e-6, b["p50_us"] / 1e3, b["p99_us"] / 1e3,
               b["errors"] + b["non2xx"]),
              "≥ 2000/s", "yes" if b["tiles_per_s"] >= 2000 else "no"]]
+    d = stored.get("many_tiles_cold")
+    if d:
+        rows.append(["the same with --tile-cache-memory 0: every GET renders and encodes its PNG",
+                     "%.0f tiles/s (%d GETs), p50 %.1f ms, p99 %.1f ms" % (d["tiles_per_s"], d["requests"],
+                                                                         d["p50_us"] / 1e3, d["p99_us"] / 1e3),
+                     "", ""])
     c = stored.get("many_raw_tiles")
     if c:
-        rows.append(["the same tiles as raw float32 (no image encoder)",
+        rows.append(["the same as raw float32, --tile-cache-memory 0 (no image encoder)",
                      "%.0f tiles/s (%d GETs), p50 %.1f ms, p99 %.1f ms" % (c["tiles_per_s"], c["requests"],
                                                                          c["p50_us"] / 1e3, c["p99_us"] / 1e3),
                      "", ""])
-    return ("Measured %s, %d cores, wrk and tocherd on the same machine (bench/perf/stored.py).\n\n" %
+    text = ("Measured %s, %d cores, wrk and tocherd on the same machine (bench/perf/stored.py).\n\n" %
             (stored["date"], stored["cores"]) + table(["measure", "measured", "target", "met"], rows))
+    if d and c:
+        text += STORED_NOTE % (a["body_bytes"] / 1e6, b["tiles_per_s"], b["tiles_per_s"] / 2000, d["tiles_per_s"],
+                               c["tiles_per_s"])
+    return text
+
+
+STORED_NOTE = """
+
+The first measure is what issue 15 is for: a stored mesh's tile skips parsing the %.1f MB body,
+validation and the build (and its locator), leaving the render of the pixels the tile covers and the
+PNG encoding. The throughput target is met by what a tile server does with immutable URLs: the
+daemon keeps encoded tiles by ETag (`--tile-cache-memory`, 256 MiB by default, an LRU; a tile is
+rendered once even when eight clients ask for it at once), so the 64 tiles of z = 3 asked again and
+again are answered from memory (%.0f tiles/s, %.0f× the target). Every GET that renders and
+encodes its PNG (the cache off) reaches %.0f tiles/s: a 256² tile of the 10k-triangle mesh spends
+about 1.2 ms rendering and 2.7 ms encoding the PNG through OpenImageIO (Server-Timing), and raw
+float32 without the encoder reaches %.0f/s. A first view of fresh tiles is bounded by that
+(rendering speed is issue 17's work); repeated views, other clients and nginx's cache in front
+(issue 16) are not."""
 
 
 def section_skip(r):

@@ -2,7 +2,9 @@
 """stored.py — the stored-mesh side of `make bench` (issue 15): on a 131k-triangle grid, a 256² PNG
 tile of a stored mesh against POST /v1/render of the same viewport with the whole body (medians and
 their ratio); then 1000 GETs of 256² PNG tiles of a stored 10k-triangle mesh by 8 keep-alive
-clients (wrk, for SECONDS: at the 2000/s target that is several thousand GETs, at least 1000). Prints one JSON object, and the figures on stderr.
+clients (wrk, for SECONDS: at the 2000/s target that is several thousand GETs, at least 1000), with the
+daemon's defaults (the encoded-tile cache answers a tile again without rendering it) and, for the
+rendering itself, with --tile-cache-memory 0 (PNG and raw). Prints one JSON object, and the figures on stderr.
 
     /usr/bin/python3 bench/perf/stored.py BUILD_DIR
 """
@@ -31,8 +33,8 @@ def grid_request(n):
     return json.dumps({"vertices": pts.tolist(), "triangles": tri.tolist(), "values": v.tolist()}).encode()
 
 
-def start():
-    proc = subprocess.Popen([os.path.join(BUILD, "tocherd"), "--listen", "127.0.0.1:0"], stdout=subprocess.PIPE,
+def start(*flags):
+    proc = subprocess.Popen([os.path.join(BUILD, "tocherd"), "--listen", "127.0.0.1:0", *flags], stdout=subprocess.PIPE,
                             stderr=subprocess.DEVNULL)
     m = re.search(r"127\.0\.0\.1:(\d+)", proc.stdout.readline().decode())
     if not m:
@@ -102,11 +104,16 @@ def many_tiles(port, n=71, clients=8, seconds=5, z=3, fmt="png"):
 
 
 def main():
-    proc, port = start()
+    res = {"date": time.strftime("%Y-%m-%d", time.gmtime()), "cores": os.cpu_count()}
+    proc, port = start()  # defaults: the encoded-tile cache on (each tile below is rendered once, then kept)
     try:
-        res = {"date": time.strftime("%Y-%m-%d", time.gmtime()), "cores": os.cpu_count(),
-               "tile_vs_render": tile_vs_render(port), "many_tiles": many_tiles(port),
-               "many_raw_tiles": many_tiles(port, fmt="raw")}  # the same without the PNG encoder
+        res.update(tile_vs_render=tile_vs_render(port), many_tiles=many_tiles(port))
+    finally:
+        proc.terminate()
+        proc.wait(30)
+    proc, port = start("--tile-cache-memory", "0")  # every GET renders and encodes its tile
+    try:
+        res.update(many_tiles_cold=many_tiles(port), many_raw_tiles=many_tiles(port, fmt="raw"))
     finally:
         proc.terminate()
         proc.wait(30)
@@ -119,8 +126,9 @@ def main():
           "p99 %.1f ms, %d errors (target ≥ 2000/s on 2 cores)" %
           (b["requests"], b["duration_us"] * 1e-6, b["triangles"], b["clients"], b["tiles_per_s"], b["p50_us"] / 1e3, b["p99_us"] / 1e3,
            b["errors"] + b["non2xx"]), file=sys.stderr)
-    c = res["many_raw_tiles"]
-    print("stored: the same as raw float32 (no image encoder): %.0f tiles/s" % c["tiles_per_s"], file=sys.stderr)
+    c, d = res["many_raw_tiles"], res["many_tiles_cold"]
+    print("stored: without the tile cache (every GET renders): PNG %.0f tiles/s, raw float32 %.0f tiles/s" %
+          (d["tiles_per_s"], c["tiles_per_s"]), file=sys.stderr)
     print(json.dumps(res, indent=1))
 
 

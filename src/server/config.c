@@ -67,6 +67,9 @@ static const option options[] = {
     {"--cache-memory", "TOCHER_CACHE_MEMORY", "BYTES",
      "built reconstructions of stored meshes kept in memory (LRU; suffix k, M, G; 0: none)", K_BYTES,
      F(cache_memory), 0, 1LL << 50},
+    {"--tile-cache-memory", "TOCHER_TILE_CACHE_MEMORY", "BYTES",
+     "encoded tiles of stored meshes kept in memory, by ETag (LRU; suffix k, M, G; 0: none)", K_BYTES,
+     F(tile_cache_memory), 0, 1LL << 50},
 };
 #undef F
 enum { NOPTIONS = sizeof options / sizeof options[0] };
@@ -116,6 +119,7 @@ static void defaults(tc_srv_config *c) {
     c->shutdown_grace = 30;
     strcpy(c->store, "memory");
     c->cache_memory = default_cache_memory();
+    c->tile_cache_memory = 256LL << 20; /* ~3 000 256^2 PNG tiles of a typical solution */
 }
 
 /* "HOST:PORT" or "[V6ADDR]:PORT". */

@@ -22,6 +22,7 @@ typedef struct {
     double shutdown_grace;         /* seconds to let requests finish on SIGTERM */
     char store[32];                /* the mesh store backend: "memory" */
     long long cache_memory;        /* bytes of built reconstructions kept (the LRU's bound) */
+    long long tile_cache_memory;   /* bytes of encoded tiles kept (an LRU by ETag); 0: none */
 } tc_srv_config;
 
 enum { TC_CONFIG_RUN, TC_CONFIG_EXIT_OK, TC_CONFIG_EXIT_USAGE };

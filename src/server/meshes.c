@@ -17,20 +17,36 @@
 struct tc_meshes {
     tc_store *store;
     tc_cache *cache;
+    tc_cache *tiles; /* encoded tiles by ETag (--tile-cache-memory), or NULL: none */
 };
+
+/* A tile's answer as the cache keeps it: the encoded bytes and their type. */
+typedef struct {
+    char *bytes;
+    size_t len;
+    const char *content_type; /* static string */
+} tile_answer;
+
+static void free_tile(void *v) {
+    tile_answer *a = v;
+    if (a) free(a->bytes);
+    free(a);
+}
 
 #define IMMUTABLE "public, max-age=31536000, immutable"
 static const char not_found[] = "mesh not found; POST it again";
 
 static void free_job(void *v) { tc_api_job_free(v); }
 
-tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, char *err, size_t errlen) {
+tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, long long tile_bytes, char *err,
+                         size_t errlen) {
     if (strcmp(store, "memory")) return snprintf(err, errlen, "unknown store '%s' (memory)", store), NULL;
     tc_meshes *m = calloc(1, sizeof *m);
     if (m) m->store = tc_store_memory_new();
     if (m && m->store) m->cache = tc_cache_new((size_t)cache_bytes, free_job);
-    if (!m || !m->cache) {
-        if (m) tc_store_free(m->store);
+    if (m && m->cache && tile_bytes > 0) m->tiles = tc_cache_new((size_t)tile_bytes, free_tile);
+    if (!m || !m->cache || (tile_bytes > 0 && !m->tiles)) {
+        if (m) tc_cache_free(m->cache), tc_store_free(m->store);
         free(m);
         return snprintf(err, errlen, "out of memory for the mesh store"), NULL;
     }
@@ -39,6 +55,7 @@ tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, char *err, si
 
 void tc_meshes_free(tc_meshes *m) {
     if (!m) return;
+    tc_cache_free(m->tiles);
     tc_cache_free(m->cache);
     tc_store_free(m->store);
     free(m);
@@ -56,6 +73,15 @@ void tc_meshes_write_metrics(tc_meshes *m, tc_strbuf *o) {
                      s.evictions);
     tc_strbuf_printf(o, "# HELP tocher_cache_bytes Memory of the cached reconstructions (estimated).\n"
                         "# TYPE tocher_cache_bytes gauge\ntocher_cache_bytes %zu\n", s.bytes);
+    tc_cache_stats t = {0};
+    if (m->tiles) tc_cache_get_stats(m->tiles, &t);
+    tc_strbuf_printf(o, "# HELP tocher_tile_cache_hits_total Tile GETs answered from the encoded-tile cache.\n"
+                        "# TYPE tocher_tile_cache_hits_total counter\ntocher_tile_cache_hits_total %llu\n", t.hits);
+    tc_strbuf_printf(o, "# HELP tocher_tile_cache_misses_total Tile GETs that rendered and encoded their tile.\n"
+                        "# TYPE tocher_tile_cache_misses_total counter\ntocher_tile_cache_misses_total %llu\n",
+                     t.misses);
+    tc_strbuf_printf(o, "# HELP tocher_tile_cache_bytes Encoded tiles kept (--tile-cache-memory bounds it).\n"
+                        "# TYPE tocher_tile_cache_bytes gauge\ntocher_tile_cache_bytes %zu\n", t.bytes);
     tc_strbuf_printf(o, "# HELP tocher_meshes_stored Meshes in the store.\n"
                         "# TYPE tocher_meshes_stored gauge\ntocher_meshes_stored %ld\n", tc_store_count(m->store));
 }
@@ -242,21 +268,80 @@ static int tile_look(const tc_tile_req *t, const tc_api_mesh_info *info, tc_api_
     return 0;
 }
 
+/* Renders the tile of job J into out (the answer as /v1/render gives it). */
+static void render_tile(const tc_route_input *in, const tc_tile_req *t, const tc_api_job *J, tc_reply *out) {
+    tc_api_look look;
+    if (tile_look(t, tc_api_job_info(J), &look, out) != 0) return;
+    int rc = tc_api_job_render_look(J, &look, &in->lim, &out->body, &out->res);
+    tc_reply_api(out, rc, 0);
+}
+
+/* What a tile-cache miss needs: the request, its tile, and the reply the
+ * render fills (the miss answers from it whether or not it is kept). */
+typedef struct {
+    const tc_route_input *in;
+    const tc_tile_req *t;
+    tc_reply *out;
+    int answered; /* out holds the answer (rendered, or the job's problem) */
+} tile_ctx;
+
+enum { TILE_NOT_KEPT = 1 }; /* answered, but not a plain 200 to keep: the caller sends out as it is */
+
+/* A miss: the job, the render, and a copy of the bytes to keep when the answer
+ * is a 200 without warnings (a warning is sent as a header the cache does not keep). */
+static int build_tile(void *arg, const char *key, void **value, size_t *bytes) {
+    (void)key;
+    tile_ctx *c = arg;
+    tc_cache_entry *e;
+    c->answered = 1;
+    if (!acquire(c->in, c->out, &e)) return TILE_NOT_KEPT;
+    render_tile(c->in, c->t, tc_cache_value(e), c->out);
+    tc_cache_release(c->in->meshes->cache, e);
+    if (c->out->status != 200 || c->out->res.diags.count) return TILE_NOT_KEPT;
+    tile_answer *a = malloc(sizeof *a);
+    char *copy = malloc(c->out->body.len + 1);
+    if (!a || !copy) return free(a), free(copy), TILE_NOT_KEPT;
+    memcpy(copy, c->out->body.buf, c->out->body.len);
+    *a = (tile_answer){copy, c->out->body.len, c->out->content_type};
+    *value = a;
+    *bytes = a->len + sizeof *a + 128; /* + the entry */
+    return 0;
+}
+
+/* The tile from the encoded-tile cache (keyed by its ETag: an id never changes
+ * meaning, so neither does a tile's URL), rendering it on a miss; two requests
+ * for the same missing tile render it once. */
+static void cached_tile(const tc_route_input *in, const tc_tile_req *t, tc_reply *out) {
+    tile_ctx c = {in, t, out, 0};
+    tc_cache_entry *e = NULL;
+    char key[96];
+    size_t n = strlen(out->etag);
+    snprintf(key, sizeof key, "%.*s", n >= 2 ? (int)(n - 2) : 0, out->etag + 1); /* without the quotes */
+    int rc = tc_cache_acquire(in->meshes->tiles, key, build_tile, &c, &e);
+    if (rc == 0 && !c.answered) { /* a hit (or another request's render) */
+        const tile_answer *a = tc_cache_value(e);
+        tc_strbuf_append(&out->body, a->bytes, a->len);
+        out->res.content_type = a->content_type;
+        tc_reply_api(out, out->body.oom ? 500 : 200, 0);
+        tc_cache_release(in->meshes->tiles, e);
+    } else if (rc != 0 && !c.answered && acquire(in, out, &e)) { /* the cache had no room for an entry */
+        render_tile(in, t, tc_cache_value(e), out);
+        tc_cache_release(in->meshes->cache, e);
+    }
+}
+
 void tc_meshes_tile(const tc_route_input *in, tc_reply *out) {
     tc_tile_req t;
     char detail[200], meaning[600];
     int bad = tc_tile_parse(in->params, in->query, &t, detail, sizeof detail);
     if (bad) return tc_reply_problem(out, bad == 404 ? TC_PROBLEM_NOT_FOUND : TC_PROBLEM_MALFORMED, detail);
     tc_tile_meaning(&t, meaning, sizeof meaning);
-    tc_cache_entry *e;
-    if (!exists(in, out) || not_modified(in, out, meaning) || !acquire(in, out, &e))
-        return keep_cache_headers_if_ok(out);
-    const tc_api_job *J = tc_cache_value(e);
-    tc_api_look look;
-    if (tile_look(&t, tc_api_job_info(J), &look, out) == 0) {
-        int rc = tc_api_job_render_look(J, &look, &in->lim, &out->body, &out->res);
-        tc_reply_api(out, rc, 0);
+    if (!exists(in, out) || not_modified(in, out, meaning)) return keep_cache_headers_if_ok(out);
+    if (in->meshes->tiles) {
+        cached_tile(in, &t, out);
+    } else {
+        tc_cache_entry *e;
+        if (acquire(in, out, &e)) render_tile(in, &t, tc_cache_value(e), out), tc_cache_release(in->meshes->cache, e);
     }
-    tc_cache_release(in->meshes->cache, e);
     keep_cache_headers_if_ok(out);
 }

@@ -10,9 +10,11 @@
 
 typedef struct tc_meshes tc_meshes;
 
-/* store: "memory" (the only backend of this build); cache_bytes: the LRU's
- * bound. NULL with a reason in err on failure. */
-tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, char *err, size_t errlen);
+/* store: "memory" (the only backend of this build); cache_bytes: the built
+ * reconstructions' LRU bound; tile_bytes: the encoded tiles' (0: no tile cache).
+ * NULL with a reason in err on failure. */
+tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, long long tile_bytes, char *err,
+                         size_t errlen);
 void tc_meshes_free(tc_meshes *m);
 
 /* The cache and store figures in Prometheus text: tocher_cache_hits_total,

@@ -364,7 +364,7 @@ def section_delete(D):
 # ---- 6. eviction, rebuild, build once -----------------------------------------------------
 
 def section_eviction():
-    T = start("tiny", "--cache-memory", "1")
+    T = start("tiny", "--cache-memory", "1", "--tile-cache-memory", "0")  # every tile GET uses the mesh
     a, b = grid_mesh(5), grid_mesh(5, shift=1.0)
     ia = post(T, "/v1/meshes", a).json()["id"]
     ib = post(T, "/v1/meshes", b).json()["id"]
@@ -458,6 +458,48 @@ def section_concurrency(D):
     check("daemon alive", D.alive())
 
 
+# ---- 7b. the encoded-tile cache ----------------------------------------------------------
+
+def section_tile_cache(D):
+    """A tile GET again is answered from the encoded-tile cache (same bytes, no render); eight
+    clients asking at once for one tile not yet rendered render it once; a tile with a warning
+    is not kept; a deleted mesh's cached tiles answer 404 (the store is asked first)."""
+    mesh = grid_mesh(6, shift=5.0)
+    mid = post(D, "/v1/meshes", mesh).json()["id"]
+    url = "/v1/meshes/%s/tiles/1/1/0.png?size=64" % mid
+    h0, m0 = metric(D, "tocher_tile_cache_hits_total"), metric(D, "tocher_tile_cache_misses_total")
+    first = request(D, "GET", url)
+    again = request(D, "GET", url)
+    h1, m1 = metric(D, "tocher_tile_cache_hits_total"), metric(D, "tocher_tile_cache_misses_total")
+    check("tile cache: the second GET is a hit with the same bytes and headers (misses +%g, hits +%g)" %
+          (m1 - m0, h1 - h0), first.status == 200 and again.body == first.body and m1 - m0 == 1 and h1 - h0 == 1
+          and again.h("ETag") == first.h("ETag") and again.h("Content-Type") == "image/png", again.brief())
+    url2 = "/v1/meshes/%s/tiles/2/3/1.exr?size=128" % mid
+    got = []
+
+    def one():
+        got.append(request(D, "GET", url2))
+    th = [threading.Thread(target=one) for _ in range(8)]
+    for t in th:
+        t.start()
+    for t in th:
+        t.join()
+    m2 = metric(D, "tocher_tile_cache_misses_total")
+    check("tile cache: 8 clients at once for a new tile: rendered once (misses +%g), 8 equal answers" % (m2 - m1),
+          m2 - m1 == 1 and len({g.body for g in got}) == 1 and all(g.status == 200 for g in got),
+          [g.brief() for g in got][:2])
+    hot = dict(grid_mesh(3, shift=7.0), values=[1e6 * (1 + i) for i in range(16)])
+    hid = post(D, "/v1/meshes", hot).json()["id"]
+    url3 = "/v1/meshes/%s/tiles/0/0/0.exr-half?size=8" % hid
+    a, b = request(D, "GET", url3), request(D, "GET", url3)
+    check("tile cache: a tile with a warning is not kept: each GET renders it and says so",
+          a.status == b.status == 200 and a.h("Tocher-Warning") and b.h("Tocher-Warning") and a.body == b.body,
+          a.brief())
+    request(D, "DELETE", "/v1/meshes/" + mid)
+    r = request(D, "GET", url)
+    check("tile cache: after DELETE the cached tile answers 404", is_problem(r, 404, NOT_FOUND), r.brief())
+
+
 # ---- 8. configuration ------------------------------------------------------------------
 
 def section_config():
@@ -493,6 +535,7 @@ def main():
     section_errors(D, gmesh, gid)
     section_delete(D)
     section_concurrency(D)
+    section_tile_cache(D)
     section_eviction()
     section_config()
     check("metrics: hits, misses, evictions, bytes, stored, build histogram", all(
