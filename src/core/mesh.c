@@ -203,17 +203,20 @@ static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
     for (int32_t t = 0; t < m->nt; t++) {
         double ar = tc__face_aspect(m, t);
         if (ar <= ASPECT_WARN) continue;
+        if (isnan(ar)) ar = INFINITY; /* coordinates near the double range: the area overflows */
         n++;
-        if (ar > worst_ar) worst_ar = ar, worst = t;
+        if (worst < 0 || ar > worst_ar) worst_ar = ar, worst = t;
     }
     if (!n) return;
-    char path[48];
+    char path[48], size[64];
     tc__elem_path(m, worst, path, sizeof path);
+    if (isinf(worst_ar)) snprintf(size, sizeof size, "beyond the double range");
+    else snprintf(size, sizeof size, "%.3g", worst_ar);
     tc_diags_add(dg, TC_SEV_WARNING, path,
                  "%d triangles have an aspect ratio above %.0e (longest edge / shortest altitude); the worst, %s, "
-                 "%.3g: the reconstruction stays continuous but may overshoot there, and gradients across it lose "
+                 "%s: the reconstruction stays continuous but may overshoot there, and gradients across it lose "
                  "about log10(aspect) digits to rounding",
-                 (int)n, ASPECT_WARN, path, worst_ar);
+                 (int)n, ASPECT_WARN, path, size);
 }
 
 /* A vertex no triangle uses is harmless (it is never evaluated) but is

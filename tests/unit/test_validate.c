@@ -694,6 +694,36 @@ TEST(validate_unused_vertex_warns) {
     PASSES(&d);
 }
 
+/* Coordinates near the double range: a triangle's area (and so its aspect)
+ * overflows to NaN. The sliver warning names that triangle in words; it used
+ * to name triangle -1 (an assertion; found by the fuzzer, with a zero-area
+ * triangle dropped before it). */
+TEST(validate_sliver_aspect_overflow_warns_in_words) {
+    const double xy[10] = {1, 0, 1, 5, 1e308, 1, 1, 1, 2, 2};
+    const double v[5] = {0, 1, 1, 2, 3};
+    const int32_t tri[12] = {0, 1, 1, 1, 3, 2, 2, 4, 3, 0, 3, 4};
+    tc_mesh_desc d;
+    tc_mesh_desc_init(&d);
+    d.nverts = 5, d.xy = xy, d.values = v, d.nchan = 1, d.ntris = 4, d.tris = tri;
+    d.degenerate = TC_DEGENERATE_DROP;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = NULL;
+    tc_mesh_new(&d, &m, &dg);
+    int named = 0;
+    for (int i = 0; i < dg.count; i++)
+        if (strstr(dg.items[i].message, "aspect ratio")) {
+            named = 1;
+            CHECK_MSG(strstr(dg.items[i].path, "triangles[") && !strstr(dg.items[i].path, "-1"), "path '%s'",
+                      dg.items[i].path);
+            CHECK_MSG(!strstr(dg.items[i].message, "nan") && !strstr(dg.items[i].message, "inf"), "%s",
+                      dg.items[i].message);
+        }
+    CHECK_MSG(named || m == NULL, "no sliver warning and the mesh was built");
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}
+
 /* ---- 15. errors of tc_recon_new -------------------------------------------------------- */
 
 TEST(validate_recon_tangents_given_missing) {
