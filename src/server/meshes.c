@@ -190,7 +190,16 @@ static void keep_cache_headers_if_ok(tc_reply *out) {
 
 /* ---- the routes ---- */
 
+/* Whether a POST may go on: a store known to be down that still does not
+ * answer a probe gets its 503 before the (perhaps long) build, not after. */
+static int store_usable(tc_meshes *m) {
+    tc_store_health h;
+    tc_store_health_of(m->store, &h);
+    return h.up || tc_store_probe(m->store);
+}
+
 void tc_meshes_post(const tc_route_input *in, tc_reply *out) {
+    if (!store_usable(in->meshes)) return store_unavailable(out);
     double t0 = tc_now_ms();
     tc_api_job *J = NULL;
     int rc = tc_api_job_build(in->body, in->len, &in->lim, &J, &out->res);
