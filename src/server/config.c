@@ -200,7 +200,7 @@ static void help(void) {
     defaults(&d);
     printf("usage: tocherd [options]\n\n"
            "The tocher HTTP daemon: POST /v1/ordinates, /v1/evaluate, /v1/render, /v1/compare;\n"
-           "stored meshes at /v1/meshes (POST, then GET tiles); GET /healthz, /metrics, /v1/version. Each option may also be given by the\n"
+           "stored meshes at /v1/meshes (POST, then GET tiles); GET /healthz, /readyz, /metrics, /v1/version. Each option may also be given by the\n"
            "environment variable shown; flags override the environment.\n\n");
     for (int i = 0; i < NOPTIONS; i++) {
         const option *o = &options[i];
