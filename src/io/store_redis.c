@@ -32,6 +32,13 @@ static const unsigned char zstd_magic[4] = {0x28, 0xb5, 0x2f, 0xfd};
 /* A stored frame claiming more than this is refused (a corrupt or foreign value). */
 #define DECODED_MAX ((unsigned long long)4 << 30)
 
+/* Lifetime: every key gets the TTL on SET and again on each use (EXPIRE on
+ * the existence check every mesh request makes, GETEX on a read), so a mesh
+ * lives ttl_s after its last use. Under maxmemory-policy allkeys-lru Redis
+ * evicts the least recently used keys when full; an evicted key reads as
+ * absent (0), which the routes answer 404 "POST it again", and a re-POST
+ * stores it under the same id. Under noeviction a full Redis answers SET
+ * with an error reply: -1, a 503 for the POST. */
 #define KEY_PREFIX "tocher:mesh:"
 /* Backoff while Redis is down: no connect attempt sooner than this after the
  * last failed one, doubling up to BACKOFF_MAX_MS (a dead Redis is not hammered,
