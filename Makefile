@@ -16,12 +16,15 @@ LDFLAGS ?=
 
 DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev libmicrohttpd-dev libopenimageio-dev \
                    openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml \
-                   python3-jsonschema curl wrk chromium
+                   python3-jsonschema curl wrk chromium libhiredis-dev libzstd-dev redis-server
 
 CJSON_CFLAGS := $(shell pkg-config --cflags libcjson 2>/dev/null)
 CJSON_LIBS   := $(shell pkg-config --libs libcjson 2>/dev/null || echo -lcjson)
 MHD_CFLAGS   := $(shell pkg-config --cflags libmicrohttpd 2>/dev/null)
 MHD_LIBS     := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
+# The Redis mesh store (src/io/store_redis.c): hiredis, and zstd for large values.
+HIREDIS_LIBS := $(shell pkg-config --libs hiredis 2>/dev/null || echo -lhiredis)
+ZSTD_LIBS    := $(shell pkg-config --libs libzstd 2>/dev/null || echo -lzstd)
 OIIO_CFLAGS  := $(shell pkg-config --cflags OpenImageIO 2>/dev/null)
 OIIO_LIBS    := $(shell pkg-config --libs OpenImageIO 2>/dev/null || echo -lOpenImageIO -lOpenImageIO_Util)
 CXX     ?= c++
@@ -34,7 +37,7 @@ WARN_EXTRA ?=
 ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(SAN) $(ASSERTS) $(WARN) $(WARN_EXTRA) \
              -Iinclude -Isrc $(CJSON_CFLAGS) -MMD -MP $(CFLAGS)
 ALL_LDFLAGS = $(SAN) $(LDFLAGS)
-LIBS     := $(CJSON_LIBS) -lm -lpthread -ldl
+LIBS     := $(CJSON_LIBS) $(HIREDIS_LIBS) $(ZSTD_LIBS) -lm -lpthread -ldl
 # The one C++ file: OpenImageIO behind a C interface, built as a plugin that
 # src/image/plugin.c opens on the first encode (non-image work never loads it).
 ALL_CXXFLAGS = -std=c++17 $(OPT) -g $(SAN) -fPIC -Wall -Wextra -Werror -Iinclude -Isrc $(OIIO_CFLAGS) $(CXXFLAGS)

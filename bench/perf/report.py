@@ -60,6 +60,7 @@ class Run:
         self.toch = load(outdir, "tocher.json")
         self.daemon = load(outdir, "daemon.json")
         self.stored = load(outdir, "stored.json") if os.path.exists(os.path.join(outdir, "stored.json")) else None
+        self.redis = load(outdir, "redis.json") if os.path.exists(os.path.join(outdir, "redis.json")) else None
         self.names = [n for n in self.toch["meshes"] if n in self.peers["meshes"]]
         try:
             with open(os.path.join(outdir, "lscpu.txt")) as f:
@@ -169,6 +170,36 @@ def section_http(r):
                      "%.0f" % w["rps"], "%.2f ms" % (w["p50_us"] / 1e3), "%.2f ms" % (w["p90_us"] / 1e3),
                      "%.2f ms" % (w["p99_us"] / 1e3), w["errors"] + w["non2xx"]])
     return table(["route", "wrk", "requests/s", "p50", "p90", "p99", "errors"], rows)
+
+
+def section_redis(red):
+    """The Redis store's figures (bench/perf/redis.py): bytes a mesh costs in Redis, and what a
+    cache miss adds when its bytes come from Redis. Also spliced into an existing page (redis.py --splice)."""
+    if not red:
+        return "(not measured: redis.json is missing)"
+    rows = [["%d" % s["triangles"], "%.2f MB" % (s["body_bytes"] / 1e6), "%.2f MB" % (s["canonical_bytes"] / 1e6),
+             "%.2f MB (%s)" % (s["stored_bytes"] / 1e6, "zstd, %.1f×" % (s["canonical_bytes"] / s["stored_bytes"])
+                               if s["compressed"] else "as is"),
+             "%.2f MB" % (s["memory_usage"] / 1e6), sec(s["post_s"])] for s in red["sizes"]]
+    load = " (load average %.1f: a shared machine)" % red["loadavg"] if red.get("loadavg", 0) > red["cores"] else ""
+    out = ("Measured %s, %d cores%s, Redis %s, redis-server and tocherd on the same machine over loopback "
+           "(bench/perf/redis.py). What one stored mesh costs in Redis (grids of bench/perf/meshes.py; "
+           "`MEMORY USAGE` of its key, `POST` the whole POST /v1/meshes with its build):\n\n" %
+           (red["date"], red["cores"], load, red["redis_version"]))
+    out += table(["triangles", "JSON body", "canonical form", "stored", "MEMORY USAGE", "POST"], rows)
+    rows = [["%d" % m["triangles"], sec(m["redis_miss"]), sec(m["memory_miss"]), sec(m["redis_hit"]),
+             sec(m["memory_hit"]), sec(m["miss_added_s"]), sec(m["redis_part_s"]), sec(m["check_per_hit_s"])]
+            for m in red["miss"]]
+    out += ("\n\nA 64² raw tile (medians: %s misses, 300 hits, one keep-alive client): a miss with the Redis "
+            "store (`--cache-memory 1`, every use fetches, decompresses and builds), with the memory store, "
+            "a hit with each, interleaved; *miss adds* = Redis miss − Redis hit (fetch + decompress + build); "
+            "*of which Redis* and *check per hit* are the time outside the request's phases (Server-Timing "
+            "total − parse, validate, build, evaluate, encode), Redis miss − memory miss (GETEX of the value "
+            "and zstd) and Redis hit − memory hit (the EXPIRE every mesh request sends, which renews the TTL "
+            "and makes an expired or evicted mesh a 404 on every replica), medians:\n\n" % "/".join(str(m["runs"]) for m in red["miss"]))
+    out += table(["triangles", "miss, Redis", "miss, memory", "hit, Redis", "hit, memory", "miss adds",
+                  "of which Redis", "check per hit"], rows)
+    return out
 
 
 def section_stored(stored):
@@ -377,6 +408,10 @@ wrk and tocherd share the machine's 2 cores.
 ## Stored meshes: tiles without the body
 
 {section_stored(r.stored)}
+
+## Stored meshes in Redis
+
+{section_redis(r.redis)}
 
 ## Work only what a scene needs
 

@@ -105,6 +105,17 @@ static long mem_count(tc_store *s) {
     return n;
 }
 
+/* In this process: always there. */
+static int mem_probe(tc_store *s) {
+    (void)s;
+    return 1;
+}
+
+static void mem_health(tc_store *s, tc_store_health *h) {
+    (void)s;
+    h->up = 1, h->errors = h->reconnects = 0;
+}
+
 static void mem_destroy(tc_store *s) {
     mem_store *m = (mem_store *)s;
     for (size_t i = 0; i < m->nslots; i++)
@@ -117,7 +128,7 @@ static void mem_destroy(tc_store *s) {
     free(m);
 }
 
-static const tc_store_ops mem_ops = {mem_put, mem_get, mem_del, mem_count, mem_destroy};
+static const tc_store_ops mem_ops = {mem_put, mem_get, mem_del, mem_count, mem_probe, mem_health, mem_destroy};
 
 tc_store *tc_store_memory_new(void) {
     mem_store *m = calloc(1, sizeof *m);

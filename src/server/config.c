@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "io/store.h"
 #include "server/config.h"
 #include "tocher.h"
 
@@ -62,8 +63,12 @@ static const option options[] = {
      K_SECONDS, F(body_timeout), 0, 86400},
     {"--shutdown-grace", "TOCHER_SHUTDOWN_GRACE", "SECONDS",
      "on SIGTERM/SIGINT, time left to requests in flight", K_SECONDS, F(shutdown_grace), 0, 86400},
-    {"--store", "TOCHER_STORE", "NAME", "where POSTed meshes are kept: memory (in this process)", K_STORE, F(store), 0,
-     0},
+    {"--store", "TOCHER_STORE", "STORE",
+     "where POSTed meshes are kept: memory (in this process) or redis://HOST:PORT[/DB] (shared by replicas)",
+     K_STORE, F(store), 0, 0},
+    {"--mesh-ttl", "TOCHER_MESH_TTL", "SECONDS",
+     "with a Redis store: a stored mesh expires this long after its last use (0: never)", K_INT, F(mesh_ttl), 0,
+     1e9},
     {"--cache-memory", "TOCHER_CACHE_MEMORY", "BYTES",
      "built reconstructions of stored meshes kept in memory (LRU; suffix k, M, G; 0: none)", K_BYTES,
      F(cache_memory), 0, 1LL << 50},
@@ -118,6 +123,7 @@ static void defaults(tc_srv_config *c) {
     c->request_timeout = 30;
     c->shutdown_grace = 30;
     strcpy(c->store, "memory");
+    c->mesh_ttl = 7 * 86400;
     c->cache_memory = default_cache_memory();
     c->tile_cache_memory = 256LL << 20; /* ~3 000 256^2 PNG tiles of a typical solution */
 }
@@ -160,14 +166,17 @@ static int parse_number(const option *o, const char *s, double *out) {
     return 0;
 }
 
-/* source: the environment variable, or NULL for the flag. */
-/* The store backends this build has. */
+/* The store backends this build has: memory, or Redis by URL. */
 static int parse_store(tc_srv_config *c, const char *s) {
-    if (strcmp(s, "memory")) return -1;
+    char host[256];
+    int port, db;
+    if (strcmp(s, "memory") && tc_redis_url_parse(s, host, sizeof host, &port, &db)) return -1;
+    if (strlen(s) >= sizeof c->store) return -1;
     strcpy(c->store, s);
     return 0;
 }
 
+/* source: the environment variable, or NULL for the flag. */
 static int set_option(tc_srv_config *c, const option *o, const char *value, const char *source) {
     double v = 0;
     int bad = o->k == K_LISTEN  ? parse_listen(c, value)
@@ -177,7 +186,7 @@ static int set_option(tc_srv_config *c, const option *o, const char *value, cons
         fprintf(stderr, "tocherd: %s%s%s: bad value for %s %s", source ? source : o->flag, source ? "=" : " ",
                 value, o->flag, o->arg);
         if (o->k == K_LISTEN) fprintf(stderr, " (e.g. 127.0.0.1:8080, [::1]:0)\n");
-        else if (o->k == K_STORE) fprintf(stderr, " (memory)\n");
+        else if (o->k == K_STORE) fprintf(stderr, " (memory, or redis://HOST:PORT[/DB])\n");
         else fprintf(stderr, " (%.0f to %.0f%s)\n", o->min, o->max, o->k == K_SECONDS ? ", fractions allowed" : "");
         return -1;
     }
@@ -208,7 +217,7 @@ static void help(void) {
     defaults(&d);
     printf("usage: tocherd [options]\n\n"
            "The tocher HTTP daemon: POST /v1/ordinates, /v1/evaluate, /v1/render, /v1/compare;\n"
-           "stored meshes at /v1/meshes (POST, then GET tiles); GET /healthz, /metrics, /v1/version. Each option may also be given by the\n"
+           "stored meshes at /v1/meshes (POST, then GET tiles); GET /healthz, /readyz, /metrics, /v1/version. Each option may also be given by the\n"
            "environment variable shown; flags override the environment.\n\n");
     for (int i = 0; i < NOPTIONS; i++) {
         const option *o = &options[i];

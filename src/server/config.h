@@ -20,7 +20,8 @@ typedef struct {
     double body_timeout;           /* seconds from the headers to the end of the body; 0: none */
     double request_timeout;        /* seconds of work per request; 0: no deadline */
     double shutdown_grace;         /* seconds to let requests finish on SIGTERM */
-    char store[32];                /* the mesh store backend: "memory" */
+    char store[320];               /* the mesh store: "memory" or redis://HOST:PORT[/DB] */
+    long long mesh_ttl;            /* seconds a stored mesh lives in Redis after its last use; 0: forever */
     long long cache_memory;        /* bytes of built reconstructions kept (the LRU's bound) */
     long long tile_cache_memory;   /* bytes of encoded tiles kept (an LRU by ETag); 0: none */
 } tc_srv_config;

@@ -9,7 +9,9 @@
 #include "io/cache.h"
 #include "io/sha256.h"
 #include "io/store.h"
+#include "server/config.h"
 #include "server/etag.h"
+#include "server/log.h"
 #include "server/meshes.h"
 #include "server/metrics.h"
 #include "server/tiles.h"
@@ -35,23 +37,54 @@ static void free_tile(void *v) {
 
 #define IMMUTABLE "public, max-age=31536000, immutable"
 static const char not_found[] = "mesh not found; POST it again";
+static const char unavailable[] = "the mesh store is unavailable (unreachable or out of memory); retry later";
 
 static void free_job(void *v) { tc_api_job_free(v); }
 
-tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, long long tile_bytes, char *err,
-                         size_t errlen) {
-    if (strcmp(store, "memory")) return snprintf(err, errlen, "unknown store '%s' (memory)", store), NULL;
+static void log_line(const char *line) { tc_log_notice("%s", line); }
+
+/* Redis's timeouts: a connect and a command each take at most a quarter of
+ * the request deadline (a request makes at most two round trips and one retry
+ * on a new connection), and never more than 0.5 s and 1 s. */
+static tc_store *redis_store(const tc_srv_config *cfg, char *err, size_t errlen) {
+    double quarter = cfg->request_timeout > 0 ? cfg->request_timeout / 4 : 1e9;
+    tc_redis_opts o = {cfg->store, cfg->mesh_ttl, quarter < 0.5 ? quarter : 0.5, quarter < 1.0 ? quarter : 1.0,
+                       (int)(cfg->workers + cfg->threads), log_line};
+    return tc_store_redis_new(&o, err, errlen);
+}
+
+tc_meshes *tc_meshes_new(const tc_srv_config *cfg, char *err, size_t errlen) {
+    int redis = strncmp(cfg->store, "redis://", 8) == 0;
+    if (!redis && strcmp(cfg->store, "memory"))
+        return snprintf(err, errlen, "unknown store '%s' (memory, redis://HOST:PORT[/DB])", cfg->store), NULL;
     tc_meshes *m = calloc(1, sizeof *m);
-    if (m) m->store = tc_store_memory_new();
-    if (m && m->store) m->cache = tc_cache_new((size_t)cache_bytes, free_job);
-    if (m && m->cache && tile_bytes > 0) m->tiles = tc_cache_new((size_t)tile_bytes, free_tile);
-    if (!m || !m->cache || (tile_bytes > 0 && !m->tiles)) {
-        if (m) tc_cache_free(m->cache), tc_store_free(m->store);
+    if (!m) return snprintf(err, errlen, "out of memory for the mesh store"), NULL;
+    snprintf(err, errlen, "out of memory for the mesh store");
+    m->store = redis ? redis_store(cfg, err, errlen) : tc_store_memory_new();
+    if (m->store) m->cache = tc_cache_new((size_t)cfg->cache_memory, free_job);
+    if (m->cache && cfg->tile_cache_memory > 0) m->tiles = tc_cache_new((size_t)cfg->tile_cache_memory, free_tile);
+    if (!m->cache || (cfg->tile_cache_memory > 0 && !m->tiles)) {
+        tc_cache_free(m->cache);
+        tc_store_free(m->store);
         free(m);
-        return snprintf(err, errlen, "out of memory for the mesh store"), NULL;
+        return NULL;
     }
     return m;
 }
+
+/* The store cannot answer now: 503 busy, retry in a second (its backoff). */
+static void store_unavailable(tc_reply *out) {
+    tc_reply_problem(out, TC_PROBLEM_BUSY, unavailable);
+    out->retry_after = 1;
+}
+
+void tc_meshes_write_store(tc_meshes *m, tc_strbuf *o) {
+    tc_store_health h;
+    tc_store_health_of(m->store, &h);
+    tc_strbuf_printf(o, "{\"backend\":\"%s\",\"state\":\"%s\"}", m->store->name, h.up ? "up" : "down");
+}
+
+int tc_meshes_ready(tc_meshes *m) { return tc_store_probe(m->store); }
 
 void tc_meshes_free(tc_meshes *m) {
     if (!m) return;
@@ -82,8 +115,19 @@ void tc_meshes_write_metrics(tc_meshes *m, tc_strbuf *o) {
                      t.misses);
     tc_strbuf_printf(o, "# HELP tocher_tile_cache_bytes Encoded tiles kept (--tile-cache-memory bounds it).\n"
                         "# TYPE tocher_tile_cache_bytes gauge\ntocher_tile_cache_bytes %zu\n", t.bytes);
-    tc_strbuf_printf(o, "# HELP tocher_meshes_stored Meshes in the store.\n"
-                        "# TYPE tocher_meshes_stored gauge\ntocher_meshes_stored %ld\n", tc_store_count(m->store));
+    long stored = tc_store_count(m->store);
+    if (stored >= 0) /* not for Redis: its INFO keyspace counts the keys */
+        tc_strbuf_printf(o, "# HELP tocher_meshes_stored Meshes in the store.\n"
+                            "# TYPE tocher_meshes_stored gauge\ntocher_meshes_stored %ld\n", stored);
+    tc_store_health h;
+    tc_store_health_of(m->store, &h);
+    tc_strbuf_printf(o, "# HELP tocher_store_up Whether the mesh store answered its last use (1) or not (0).\n"
+                        "# TYPE tocher_store_up gauge\ntocher_store_up %d\n", h.up);
+    tc_strbuf_printf(o, "# HELP tocher_store_errors_total Mesh store calls that failed (store down, error reply).\n"
+                        "# TYPE tocher_store_errors_total counter\ntocher_store_errors_total %llu\n", h.errors);
+    tc_strbuf_printf(o, "# HELP tocher_store_reconnects_total Times the mesh store came back after being down.\n"
+                        "# TYPE tocher_store_reconnects_total counter\ntocher_store_reconnects_total %llu\n",
+                     h.reconnects);
 }
 
 /* ---- the job of an id ---- */
@@ -97,7 +141,7 @@ typedef struct {
     tc_api_result res; /* the rebuild's own result: its warnings are the job's */
 } build_ctx;
 
-enum { BUILD_GONE = 404, BUILD_STORE_FAILED = 500 };
+enum { BUILD_GONE = 404, BUILD_STORE_FAILED = 503 };
 
 static int build_job(void *arg, const char *id, void **value, size_t *bytes) {
     build_ctx *b = arg;
@@ -127,7 +171,8 @@ static int acquire(const tc_route_input *in, tc_reply *out, tc_cache_entry **e) 
     int rc = tc_cache_acquire(in->meshes->cache, in->params->seg[0], build_job, &b, e);
     for (int p = 0; p < TC_NPHASES; p++) out->res.ms[p] += b.res.ms[p];
     if (rc == BUILD_GONE) tc_reply_problem(out, TC_PROBLEM_NOT_FOUND, not_found);
-    else if (rc == BUILD_STORE_FAILED || rc < 0) tc_reply_problem(out, TC_PROBLEM_INTERNAL, "the mesh store failed");
+    else if (rc == BUILD_STORE_FAILED) store_unavailable(out);
+    else if (rc < 0) tc_reply_problem(out, TC_PROBLEM_INTERNAL, "out of memory caching the mesh");
     else if (rc) {
         out->status = rc;
         tc_strbuf_reset(&out->body);
@@ -138,11 +183,14 @@ static int acquire(const tc_route_input *in, tc_reply *out, tc_cache_entry **e) 
     return rc == 0;
 }
 
-/* Whether the store holds in's {id}; else the 404 (or 500) is in out. */
+/* Whether the store holds in's {id} (a use: Redis renews its TTL); else the
+ * 404 (or the 503 of a store that cannot answer) is in out. Asked on every
+ * request, cached or not: a mesh expired or evicted from a shared store is
+ * gone on every replica at once, whatever their caches hold. */
 static int exists(const tc_route_input *in, tc_reply *out) {
     const char *id = in->params->seg[0];
     int got = tc_content_id_valid(id) ? tc_store_get(in->meshes->store, id, NULL, NULL) : 0;
-    if (got < 0) tc_reply_problem(out, TC_PROBLEM_INTERNAL, "the mesh store failed");
+    if (got < 0) store_unavailable(out);
     else if (got == 0) tc_reply_problem(out, TC_PROBLEM_NOT_FOUND, not_found);
     return got == 1;
 }
@@ -168,7 +216,16 @@ static void keep_cache_headers_if_ok(tc_reply *out) {
 
 /* ---- the routes ---- */
 
+/* Whether a POST may go on: a store known to be down that still does not
+ * answer a probe gets its 503 before the (perhaps long) build, not after. */
+static int store_usable(tc_meshes *m) {
+    tc_store_health h;
+    tc_store_health_of(m->store, &h);
+    return h.up || tc_store_probe(m->store);
+}
+
 void tc_meshes_post(const tc_route_input *in, tc_reply *out) {
+    if (!store_usable(in->meshes)) return store_unavailable(out);
     double t0 = tc_now_ms();
     tc_api_job *J = NULL;
     int rc = tc_api_job_build(in->body, in->len, &in->lim, &J, &out->res);
@@ -180,11 +237,13 @@ void tc_meshes_post(const tc_route_input *in, tc_reply *out) {
     char id[TC_CONTENT_ID_LEN + 1];
     tc_content_id(canon.buf, canon.len, id);
     int existed = 0;
-    int stored = canon.oom ? -1 : tc_store_put(in->meshes->store, id, canon.buf, canon.len, &existed);
+    int oom = canon.oom;
+    int stored = oom ? -1 : tc_store_put(in->meshes->store, id, canon.buf, canon.len, &existed);
     tc_strbuf_free(&canon);
     if (stored) {
         tc_api_job_free(J);
-        return tc_reply_problem(out, TC_PROBLEM_INTERNAL, "out of memory storing the mesh");
+        if (oom) return tc_reply_problem(out, TC_PROBLEM_INTERNAL, "out of memory storing the mesh");
+        return store_unavailable(out);
     }
     /* Into the cache (when another request put it there first, this job is freed instead). */
     build_ctx b = {in->meshes, &in->lim, J, {0}};
@@ -215,7 +274,7 @@ void tc_meshes_delete(const tc_route_input *in, tc_reply *out) {
     int gone = tc_content_id_valid(id) ? tc_store_del(in->meshes->store, id) : 0;
     /* After the store: a render holding the job keeps it until it releases it. */
     if (gone >= 0) tc_cache_remove(in->meshes->cache, id);
-    if (gone < 0) return tc_reply_problem(out, TC_PROBLEM_INTERNAL, "the mesh store failed");
+    if (gone < 0) return store_unavailable(out);
     if (gone == 0) return tc_reply_problem(out, TC_PROBLEM_NOT_FOUND, not_found);
     out->status = 204;
     out->content_type = NULL;

@@ -6,20 +6,27 @@
 #include <stddef.h>
 
 #include "io/strbuf.h"
+#include "server/config.h"
 #include "server/routes.h"
 
 typedef struct tc_meshes tc_meshes;
 
-/* store: "memory" (the only backend of this build); cache_bytes: the built
- * reconstructions' LRU bound; tile_bytes: the encoded tiles' (0: no tile cache).
- * NULL with a reason in err on failure. */
-tc_meshes *tc_meshes_new(const char *store, long long cache_bytes, long long tile_bytes, char *err,
-                         size_t errlen);
+/* The store of cfg->store ("memory", or redis://... with cfg->mesh_ttl and
+ * timeouts within cfg->request_timeout), a cache of cfg->cache_memory bytes
+ * and an encoded-tile cache of cfg->tile_cache_memory (0: none). A Redis not reachable yet is no failure (the store is down until it
+ * is). NULL with a reason in err on failure. */
+tc_meshes *tc_meshes_new(const tc_srv_config *cfg, char *err, size_t errlen);
 void tc_meshes_free(tc_meshes *m);
 
 /* The cache and store figures in Prometheus text: tocher_cache_hits_total,
- * _misses_total, _evictions_total, tocher_cache_bytes, tocher_meshes_stored. */
+ * _misses_total, _evictions_total, tocher_cache_bytes, tocher_meshes_stored
+ * (memory store only), tocher_store_up, _errors_total, _reconnects_total. */
 void tc_meshes_write_metrics(tc_meshes *m, tc_strbuf *out);
+/* {"backend":"memory|redis","state":"up|down"}: the last known state, no I/O (/healthz). */
+void tc_meshes_write_store(tc_meshes *m, tc_strbuf *out);
+/* 1 if the store answers now (a PING for Redis, bounded by its timeouts and
+ * backoff), else 0 (/readyz). */
+int tc_meshes_ready(tc_meshes *m);
 
 /* POST /v1/meshes */
 void tc_meshes_post(const tc_route_input *in, tc_reply *out);

@@ -19,9 +19,37 @@ static void put_json(tc_reply *out, const char *text) {
     tc_api_add_timings(&out->body, &out->res);
 }
 
+/* Liveness: 200 while the daemon answers, whatever the store's state (a
+ * restart would not bring Redis back); the state is there for operators. */
 static void healthz(const tc_route_input *in, tc_reply *out) {
-    (void)in;
-    put_json(out, "{\"status\":\"ok\"}\n");
+    out->status = 200;
+    out->content_type = TC_JSON_TYPE;
+    tc_strbuf_puts(&out->body, "{\"status\":\"ok\"");
+    if (in->meshes) {
+        tc_strbuf_puts(&out->body, ",\"store\":");
+        tc_meshes_write_store(in->meshes, &out->body);
+    }
+    tc_strbuf_puts(&out->body, "}\n");
+    tc_api_add_timings(&out->body, &out->res);
+}
+
+/* Readiness: 200 when the store answers now, else 503 with Retry-After (a
+ * balancer or Kubernetes then sends this replica no traffic until it does). */
+static void readyz(const tc_route_input *in, tc_reply *out) {
+    if (in->meshes && !tc_meshes_ready(in->meshes)) {
+        tc_reply_problem(out, TC_PROBLEM_BUSY, "the mesh store is unreachable; not ready");
+        out->retry_after = 1;
+        return;
+    }
+    out->status = 200;
+    out->content_type = TC_JSON_TYPE;
+    tc_strbuf_puts(&out->body, "{\"status\":\"ready\"");
+    if (in->meshes) {
+        tc_strbuf_puts(&out->body, ",\"store\":");
+        tc_meshes_write_store(in->meshes, &out->body);
+    }
+    tc_strbuf_puts(&out->body, "}\n");
+    tc_api_add_timings(&out->body, &out->res);
 }
 
 static void version(const tc_route_input *in, tc_reply *out) {
@@ -64,6 +92,7 @@ static const tc_route routes[] = {
     {"/v1/render", "POST", NULL, render, NULL, 0},
     {"/v1/compare", "POST", NULL, compare, NULL, 0},
     {"/healthz", GET_ONLY, healthz, NULL, NULL, 0},
+    {"/readyz", GET_ONLY, readyz, NULL, NULL, 0},
     {"/metrics", GET_ONLY, metrics, NULL, NULL, 0},
     {"/v1/version", GET_ONLY, version, NULL, NULL, 0},
     /* Stored meshes (meshes.c). */

@@ -100,7 +100,7 @@ tc_server *tc_server_start(const tc_srv_config *cfg, char *err, size_t errlen) {
     s->quiesced = MHD_INVALID_SOCKET;
     s->conns = tc_conns_start(cfg);
     if (!s->conns) return free(s), snprintf(err, errlen, "cannot start the deadline thread"), NULL;
-    s->state.meshes = tc_meshes_new(cfg->store, cfg->cache_memory, cfg->tile_cache_memory, err, errlen);
+    s->state.meshes = tc_meshes_new(cfg, err, errlen);
     if (!s->state.meshes) return tc_conns_stop(s->conns), free(s), NULL;
     s->state.pool = tc_pool_new((int)cfg->workers, (int)cfg->max_queue);
     if (!s->state.pool) {

@@ -465,8 +465,10 @@ PROBLEM_TYPES, CONTRACT_METRICS = contract()
 
 
 def healthy(doc):
-    """A /healthz answer: {"status": "ok"} plus the timings every JSON answer carries."""
-    return isinstance(doc, dict) and doc.get("status") == "ok" and set(doc) <= {"status", "timings"}
+    """A /healthz answer: {"status": "ok"}, the (memory) store up, and the timings every JSON
+    answer carries."""
+    return isinstance(doc, dict) and doc.get("status") == "ok" and set(doc) <= {"status", "store", "timings"} and \
+        doc.get("store") == {"backend": "memory", "state": "up"}
 TYPE_OF = {400: "/problems/malformed-request", 404: "/problems/not-found", 405: "/problems/method-not-allowed",
            413: "/problems/too-large", 415: "/problems/unsupported-media-type", 422: "/problems/invalid-mesh",
            503: "/problems/timeout", 500: "/problems/internal"}

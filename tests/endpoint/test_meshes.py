@@ -506,7 +506,7 @@ def section_config():
     bad = Tocherd(TOCHERD, os.path.join(TMP, "badstore.stderr"), ("--store", "redis"), strict=False)
     DAEMONS.append(bad)
     bad.proc.wait(10)
-    check("--store redis (not in this build): refused naming --store, exit 2",
+    check("--store redis (not a redis:// URL): refused naming --store, exit 2",
           not bad.started and bad.proc.returncode == 2 and "--store" in bad.stderr(), bad.stderr()[-300:])
     env = Tocherd(TOCHERD, os.path.join(TMP, "envstore.stderr"), (), {"TOCHER_STORE": "memory",
                                                                         "TOCHER_CACHE_MEMORY": "0"})
