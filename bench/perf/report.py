@@ -60,6 +60,7 @@ class Run:
         self.toch = load(outdir, "tocher.json")
         self.daemon = load(outdir, "daemon.json")
         self.stored = load(outdir, "stored.json") if os.path.exists(os.path.join(outdir, "stored.json")) else None
+        self.cluster = load(outdir, "cluster.json") if os.path.exists(os.path.join(outdir, "cluster.json")) else None
         self.names = [n for n in self.toch["meshes"] if n in self.peers["meshes"]]
         try:
             with open(os.path.join(outdir, "lscpu.txt")) as f:
@@ -198,6 +199,58 @@ def section_stored(stored):
             (stored["date"], stored["cores"]) + table(["measure", "measured", "target", "met"], rows))
 
 
+def section_cluster(cl):
+    """Tiles/s through nginx with 1, 2 and 3 replicas (bench/perf/cluster.py). Also spliced into an
+    existing page: report.py --cluster OUTDIR docs/performance.md."""
+    if not cl:
+        return "(not measured: cluster.json is missing)"
+    base = cl["runs"][0]["tiles_per_s"]
+    rows = []
+    for r in cl["runs"]:
+        share = sorted(r["per_upstream"].values(), reverse=True)
+        rows.append([r["replicas"], "%.0f" % r["tiles_per_s"], ratio(r["tiles_per_s"], base),
+                     "%.1f ms" % (r["p50_us"] / 1e3), "%.1f ms" % (r["p99_us"] / 1e3), r["errors"] + r["non2xx"],
+                     r["cache_hits"], " / ".join(str(n) for n in share)])
+    best = max(cl["runs"], key=lambda r: r["tiles_per_s"])
+    return ("Measured %s on this %d-core machine (bench/perf/cluster.py): redis-server, the replicas and nginx "
+            "(deploy/nginx/tocher.conf, 1 worker) as real processes on loopback (deploy/cluster.py), store: %s. "
+            "wrk (%d threads, %d keep-alive connections, %d s) GETs 256² PNG tiles of %d stored 10k-triangle "
+            "meshes at z = %d through nginx, every URL once, so nginx's tile cache answers none of them "
+            "(\"cache hits\", from nginx's access log, says so); \"requests per replica\" is the consistent "
+            "hash's split, from the same log.\n\n" %
+            (cl["date"], cl["cores"], cl["store"], cl["wrk_threads"], cl["connections"], cl["seconds"],
+             cl["meshes"], cl["zoom"]) +
+            table(["replicas", "tiles/s", "vs 1", "p50", "p99", "errors", "cache hits", "requests per replica"], rows) +
+            "\n\nThe best is %.0f tiles/s with %d replica(s). All of it runs on the same %d cores: one replica "
+            "already has 2 HTTP threads and its workers, and wrk and nginx take their share, so on this machine "
+            "replicas beyond %d cannot add throughput (they only split the same cores); what a second replica "
+            "adds here is the work the first left idle while waiting. The figure that carries over to a real "
+            "deployment is the split: each replica on its own cores serves its share of the meshes, and a few "
+            "meshes hash unevenly (the column above), so size for the busiest replica, not the average.\n"
+            % (best["tiles_per_s"], best["replicas"], cl["cores"], cl["cores"]))
+
+
+def splice(dest, heading, text):
+    """Replaces the section `heading` of the page dest by text (or adds it before the next
+    section after "## Stored meshes", or at the end): one benchmark rerun without the others."""
+    with open(dest) as f:
+        doc = f.read()
+    block = "## %s\n\n%s\n" % (heading, text.rstrip("\n"))
+    start = doc.find("## %s\n" % heading)
+    if start < 0:
+        anchor = doc.find("## Stored meshes")
+        nxt = doc.find("\n## ", anchor + 1) if anchor >= 0 else -1
+        doc = doc[:nxt + 1] + block + "\n" + doc[nxt + 1:] if nxt >= 0 else doc.rstrip("\n") + "\n\n" + block
+    else:
+        end = doc.find("\n## ", start + 1)
+        doc = doc[:start] + block + (doc[end:] if end >= 0 else "")
+    with open(dest, "w") as f:
+        f.write(doc)
+
+
+CLUSTER_HEADING = "A cluster: tiles through nginx with 1, 2 and 3 replicas"
+
+
 def section_skip(r):
     d = r.daemon
     big = r.names[-1] if r.names else None
@@ -275,6 +328,10 @@ def targets(r):
 
 
 def main():
+    if sys.argv[1] == "--cluster":  # only the cluster section, into an existing page
+        outdir, dest = sys.argv[2], sys.argv[3]
+        splice(dest, CLUSTER_HEADING, section_cluster(load(outdir, "cluster.json")))
+        return
     outdir, dest = sys.argv[1], sys.argv[2]
     r = Run(outdir)
     v = r.peers["versions"]
@@ -351,6 +408,10 @@ wrk and tocherd share the machine's 2 cores.
 ## Stored meshes: tiles without the body
 
 {section_stored(r.stored)}
+
+## {CLUSTER_HEADING}
+
+{section_cluster(r.cluster)}
 
 ## Work only what a scene needs
 
