@@ -97,13 +97,14 @@ def main():
     redis = has_redis_store(os.path.join(BUILD, "tocherd"))
     # 48 different meshes of 9800 triangles: the hash spreads them over the replicas.
     bodies = [grid(71, k) for k in range(MESHES)]
+    load = "%.1f" % os.getloadavg()[0]
     tmp = tempfile.mkdtemp(prefix="tocher-bench-cluster.")
     try:
         runs = [one(n, redis, bodies, tmp) for n in (1, 2, 3)]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     res = {"date": time.strftime("%Y-%m-%d", time.gmtime()), "cores": os.cpu_count(),
-           "store": "redis" if redis else "memory (this build has no redis store)", "meshes": MESHES, "zoom": Z,
+           "store": "redis" if redis else "memory (this build has no redis store)", "meshes": MESHES, "zoom": Z, "loadavg": load,
            "wrk_threads": THREADS, "connections": CONNS, "seconds": SECONDS, "runs": runs}
     for r in runs:
         print("cluster: %d replica(s) behind nginx: %.0f tiles/s (256² PNG, %d meshes of 10k triangles, %d connections), "

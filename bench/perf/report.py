@@ -221,13 +221,14 @@ def section_cluster(cl):
             (cl["date"], cl["cores"], cl["store"], cl["wrk_threads"], cl["connections"], cl["seconds"],
              cl["meshes"], cl["zoom"]) +
             table(["replicas", "tiles/s", "vs 1", "p50", "p99", "errors", "cache hits", "requests per replica"], rows) +
-            "\n\nThe best is %.0f tiles/s with %d replica(s). All of it runs on the same %d cores: one replica "
-            "already has 2 HTTP threads and its workers, and wrk and nginx take their share, so on this machine "
-            "replicas beyond %d cannot add throughput (they only split the same cores); what a second replica "
-            "adds here is the work the first left idle while waiting. The figure that carries over to a real "
-            "deployment is the split: each replica on its own cores serves its share of the meshes, and a few "
-            "meshes hash unevenly (the column above), so size for the busiest replica, not the average.\n"
-            % (best["tiles_per_s"], best["replicas"], cl["cores"], cl["cores"]))
+            "\n\nThe best is %.0f tiles/s with %d replica(s); the machine's load average was %s at the start "
+            "(it is shared). Everything runs on the same %d cores — wrk, nginx and every replica, each of which "
+            "already runs 2 HTTP threads and 4 workers — so on this machine more replicas cannot add throughput "
+            "(beyond %d they only split the same cores), and the rows differ by about the machine's noise. What "
+            "carries over to a deployment where each replica has its own cores is the split: each replica serves "
+            "the meshes that hash to it, and meshes hash unevenly (the last column), so size for the busiest "
+            "replica, not the average.\n"
+            % (best["tiles_per_s"], best["replicas"], cl.get("loadavg", "?"), cl["cores"], cl["cores"]))
 
 
 def splice(dest, heading, text):
