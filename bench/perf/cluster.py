@@ -105,6 +105,8 @@ def main():
         shutil.rmtree(tmp, ignore_errors=True)
     res = {"date": time.strftime("%Y-%m-%d", time.gmtime()), "cores": os.cpu_count(),
            "store": "redis" if redis else "memory (this build has no redis store)", "meshes": MESHES, "zoom": Z, "loadavg": load,
+           "tocherd": subprocess.run([os.path.join(BUILD, "tocherd"), "--version"], capture_output=True,
+                                     text=True).stdout.strip(),
            "wrk_threads": THREADS, "connections": CONNS, "seconds": SECONDS, "runs": runs}
     for r in runs:
         print("cluster: %d replica(s) behind nginx: %.0f tiles/s (256² PNG, %d meshes of 10k triangles, %d connections), "

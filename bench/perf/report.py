@@ -213,18 +213,19 @@ def section_cluster(cl):
                      r["cache_hits"], " / ".join(str(n) for n in share)])
     best = max(cl["runs"], key=lambda r: r["tiles_per_s"])
     return ("Measured %s on this %d-core machine (bench/perf/cluster.py): redis-server, the replicas and nginx "
-            "(deploy/nginx/tocher.conf, 1 worker) as real processes on loopback (deploy/cluster.py), store: %s. "
+            "(deploy/nginx/tocher.conf, 1 worker) as real processes on loopback (deploy/cluster.py), store: %s, daemon: %s. "
             "wrk (%d threads, %d keep-alive connections, %d s) GETs 256² PNG tiles of %d stored 10k-triangle "
             "meshes at z = %d through nginx, every URL once, so nginx's tile cache answers none of them "
             "(\"cache hits\", from nginx's access log, says so); \"requests per replica\" is the consistent "
             "hash's split, from the same log.\n\n" %
-            (cl["date"], cl["cores"], cl["store"], cl["wrk_threads"], cl["connections"], cl["seconds"],
+            (cl["date"], cl["cores"], cl["store"], cl.get("tocherd", "?"), cl["wrk_threads"], cl["connections"], cl["seconds"],
              cl["meshes"], cl["zoom"]) +
             table(["replicas", "tiles/s", "vs 1", "p50", "p99", "errors", "cache hits", "requests per replica"], rows) +
             "\n\nThe best is %.0f tiles/s with %d replica(s); the machine's load average was %s at the start "
             "(it is shared). Everything runs on the same %d cores — wrk, nginx and every replica, each of which "
-            "already runs 2 HTTP threads and 4 workers — so on this machine more replicas cannot add throughput "
-            "(beyond %d they only split the same cores), and the rows differ by about the machine's noise. What "
+            "already runs 2 HTTP threads and 4 workers — so on this machine more replicas cannot add capacity "
+            "(beyond %d they only split the same cores): the rows' differences are more threads contending for "
+            "those cores and the share the machine's other users leave, not throughput a deployment gains. What "
             "carries over to a deployment where each replica has its own cores is the split: each replica serves "
             "the meshes that hash to it, and meshes hash unevenly (the last column), so size for the busiest "
             "replica, not the average.\n"
