@@ -15,7 +15,11 @@ What it establishes, one "ok"/"FAIL" line per check, then "N passed, N failed":
      If-None-Match gets a 304;
   3. 300 distinct tile GETs through nginx (so its cache cannot answer them) while one replica
      is killed with SIGKILL and restarted: 0 failed; the restarted replica serves again;
-  4. 300 more while a replica drains on SIGTERM: 0 failed, and it exits 0.
+  4. 300 more while a replica drains on SIGTERM: 0 failed, and it exits 0;
+  5. through nginx with Redis killed: mesh routes are the API's 503 problem+json with Retry-After
+     (never nginx's HTML 502 "no live upstreams", though every replica is then marked failed),
+     stateless routes 200; Redis back empty: once nginx retries the replicas (fail_timeout),
+     old ids 404 and a re-POST works. (The replicas' own behaviour is tests/endpoint's.)
 """
 import http.client
 import json
@@ -254,6 +258,37 @@ def run(cl, single, redis):
     check("300 tile GETs through nginx, replica %d drained (SIGTERM): 0 failed (%.1f s)"
           % (drained + 1, time.time() - t0), not fails, "%d failed: %s" % (len(fails), fails[:3]))
     check("the drained replica exits 0", code == 0, "exit %r" % code)
+
+    # ---- 5. Redis down and back, as nginx's clients see it ----
+    if not redis:
+        check("Redis down behind nginx", False, "not run: this build has no redis store")
+        return
+    cl.start_replica(drained)
+    cl.procs["redis"].kill()
+    cl.procs["redis"].wait(5)
+    seen, t0 = [], time.time()
+    for n in range(8):
+        st, h, b = request(ng, "GET", "/v1/meshes/%s/tiles/3/%d/3.raw?size=16" % (ids[n % len(ids)], n))
+        seen.append((st, h.get("content-type"), h.get("retry-after")))
+    dt = time.time() - t0
+    check("Redis down: tile GETs through nginx 503 problem+json with Retry-After (%.1f s for 8)" % dt,
+          all(x == (503, "application/problem+json", "1") for x in seen) and dt < 8, seen)
+    st = [request(ng, "GET", "/healthz")[0], request(ng, "POST", "/v1/ordinates", mesh(1), JSON_H)[0]]
+    check("Redis down: stateless routes through nginx 200", st == [200, 200], st)
+    cl.start_redis()
+    # Working again without a restart, once the replicas reconnect (their backoff) and nginx
+    # tries the replicas it marked failed again (fail_timeout, 3 s): polled, at most 15 s.
+    t0 = time.time()
+    while True:
+        old = request(ng, "GET", "/v1/meshes/%s/tiles/3/7/3.raw?size=16" % ids[0])
+        if old[0] != 503 or time.time() - t0 > 15:
+            break
+        time.sleep(0.25)
+    say("   back after %.1f s" % (time.time() - t0))
+    st, _, out = request(ng, "POST", "/v1/meshes", bodies[0], JSON_H)
+    new = request(ng, "GET", "/v1/meshes/%s/tiles/3/7/4.raw?size=16" % ids[0])
+    check("Redis back empty: an old id 404, a re-POST 201 and its tiles 200", (old[0], st, new[0]) == (404, 201, 200),
+          (old[0], st, out[:100], new[0]))
 
 
 if __name__ == "__main__":
