@@ -11,6 +11,7 @@ to run their own cluster on free ports. Every process runs as the calling user, 
 log and temporary files under the run directory; nothing is written outside it.
 """
 import argparse
+import http.client
 import json
 import os
 import re
@@ -139,7 +140,28 @@ class Cluster:
                          "--max-connections-per-ip", "0", *self.tocherd_flags], env=env)
         if not wait_port(self.replica_ports[i], 30, p):
             raise RuntimeError("tocherd-%d did not start: see %s/tocherd-%d.log" % (i + 1, self.run, i + 1))
+        if self.store == "redis" and not self.wait_ready(self.replica_ports[i], 10):
+            raise RuntimeError("tocherd-%d is not ready (/readyz): is redis up? see %s/tocherd-%d.log" % (i + 1, self.run, i + 1))
         return p
+
+    @staticmethod
+    def wait_ready(port, timeout):
+        """Until the replica's /readyz answers 200 (its store reachable); a build without /readyz
+        (404) counts as ready once it listens."""
+        end = time.time() + timeout
+        while time.time() < end:
+            c = http.client.HTTPConnection("127.0.0.1", port, timeout=2)
+            try:
+                c.request("GET", "/readyz")
+                st = c.getresponse().status
+                if st in (200, 404):
+                    return True
+            except (OSError, http.client.HTTPException):
+                pass
+            finally:
+                c.close()
+            time.sleep(0.1)
+        return False
 
     def write_nginx_conf(self):
         with open(NGINX_CONF) as f:

@@ -117,8 +117,8 @@ def main():
     svcs = [d for d in docs.get("Service", []) if dig(d, "spec", "selector") and
             all(labels.get(k) == v for k, v in d["spec"]["selector"].items()) and d is not rsvc]
     headless = [s for s in svcs if dig(s, "spec", "clusterIP") == "None"]
-    check("tocherd: a Service and a headless Service select its pods",
-          len(svcs) >= 2 and len(headless) == 1 and dig(dep, "spec", "selector", "matchLabels", "app.kubernetes.io/name")
+    check("tocherd: a Service and two headless Services (ready pods; all pods) select its pods",
+          len(svcs) >= 3 and len(headless) == 2 and dig(dep, "spec", "selector", "matchLabels", "app.kubernetes.io/name")
           == labels.get("app.kubernetes.io/name"), [dig(s, "metadata", "name") for s in svcs])
     hpa = (docs.get("HorizontalPodAutoscaler") or [{}])[0]
     tgt = dig(hpa, "spec", "scaleTargetRef", default={})
@@ -144,11 +144,15 @@ def main():
         conf = f.read()
     cm = dig(named("ConfigMap", "nginx-tocher"), "data", "tocher.conf", default="")
     check("nginx ConfigMap: hash $mesh_id consistent", "hash $mesh_id consistent;" in cm)
-    fqdn = "%s.%s.svc.cluster.local:8080" % (dig(headless[0], "metadata", "name") if headless else "?",
-                                              dig(dep, "metadata", "namespace"))
-    ups = re.findall(r"^\s*server (\S+) resolve", cm, re.M)
-    check("nginx ConfigMap: both upstreams resolve the headless Service's pods (%s)" % fqdn,
-          ups == [fqdn, fqdn] and len(re.findall(r"^\s*zone \w+ \d+m;", cm, re.M)) == 2, ups)
+    ns = dig(dep, "metadata", "namespace")
+    ready = [dig(s, "metadata", "name") for s in headless if not dig(s, "spec", "publishNotReadyAddresses")]
+    anyp = [dig(s, "metadata", "name") for s in headless if dig(s, "spec", "publishNotReadyAddresses") is True]
+    fq = ["%s.%s.svc.cluster.local:8080" % (n, ns) for n in ready[:1] + anyp[:1]]
+    ups = [re.search(r"^\s*server (\S+) resolve", b, re.M) for b in re.findall(r"upstream (\w+) \{([^}]*)\}", cm)
+           for b in [b[1]]]
+    ups = [u.group(1) if u else None for u in ups]
+    check("nginx ConfigMap: the hashed upstream resolves the ready pods, the round-robin one all pods (%s)" % fq,
+          len(fq) == 2 and ups == fq and len(re.findall(r"^\s*zone \w+ \d+m;", cm, re.M)) == 2, ups)
 
     def core(text):
         """The config without comments, the upstreams' server/zone lines and the resolver."""
