@@ -312,7 +312,8 @@ def main():
     print("  curl -s -H 'Content-Type: application/json' --data-binary @%s/api/examples/shadow-edges.json %s/v1/meshes"
           % (ROOT, base))
     print("  curl -s %s/v1/meshes/ID/tiles/0/0/0.png -o z0.png      then %s/viewer?mesh=ID" % (base, base))
-    print("Stop: make cluster-stop")
+    print("Stop: make cluster-stop" if run == os.path.abspath("build/cluster") else
+          "Stop: %s stop --run %s" % (os.path.relpath(__file__), run))
 
 
 if __name__ == "__main__":
