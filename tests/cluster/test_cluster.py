@@ -133,6 +133,10 @@ def load(port, paths, events=(), clients=CLIENTS, pace=0.05):
 
 
 def main():
+    # A SIGTERM or Ctrl-C still runs the finally below: the cluster's processes, in their own
+    # sessions, would otherwise outlive the test.
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
+        signal.signal(sig, lambda *_: sys.exit("test_cluster.py: interrupted"))
     redis = has_redis_store(TOCHERD)
     check("this build has a redis store (tocherd --help lists --store redis://)", redis,
           "this build has no redis store: replicas cannot share meshes; the checks below run with "
