@@ -152,7 +152,7 @@ def main():
         if single:
             single.kill()
         cl.stop()
-    shutil.rmtree(TMP, ignore_errors=True)
+        shutil.rmtree(TMP, ignore_errors=True)
     finish()
 
 
