@@ -16,7 +16,7 @@ LDFLAGS ?=
 
 DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev libmicrohttpd-dev libopenimageio-dev \
                    openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml \
-                   python3-jsonschema curl wrk chromium libhiredis-dev libzstd-dev redis-server
+                   python3-jsonschema curl wrk chromium libhiredis-dev libzstd-dev redis-server nginx-light
 
 CJSON_CFLAGS := $(shell pkg-config --cflags libcjson 2>/dev/null)
 CJSON_LIBS   := $(shell pkg-config --libs libcjson 2>/dev/null || echo -lcjson)
@@ -57,7 +57,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit check torture run clean report report-quick bench fuzz fuzz-deps
+.PHONY: all deps test test-unit check torture run clean report report-quick bench fuzz fuzz-deps cluster cluster-stop
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -183,6 +183,22 @@ run: deps
 	@echo "  curl -s -H 'Content-Type: application/json' --data-binary @$(CURDIR)/api/examples/render.json http://127.0.0.1:8080/v1/render -o tile.png"
 	@echo
 	exec $(BUILD)/tocherd
+
+# A cluster on this machine, on loopback (deploy/cluster.py): redis-server, CLUSTER_REPLICAS
+# tocherd replicas sharing it (--store redis://) on CLUSTER_PORT+1.., nginx with
+# deploy/nginx/tocher.conf on CLUSTER_PORT; pid files and logs in $(BUILD)/cluster/.
+# It keeps running after make returns; `make cluster-stop` stops it.
+CLUSTER_PORT ?= 8090
+CLUSTER_REDIS_PORT ?= 6390
+CLUSTER_REPLICAS ?= 3
+CLUSTER_STORE ?= redis
+cluster: deps
+	@$(MAKE) --no-print-directory all
+	@$(PYTHON) deploy/cluster.py start --build $(BUILD) --run $(BUILD)/cluster --port $(CLUSTER_PORT) \
+	  --redis-port $(CLUSTER_REDIS_PORT) --replicas $(CLUSTER_REPLICAS) --store $(CLUSTER_STORE)
+
+cluster-stop:
+	@$(PYTHON) deploy/cluster.py stop --run $(BUILD)/cluster
 
 clean:
 	rm -rf build

@@ -32,6 +32,11 @@ for t in tests/endpoint/*.py; do
   [ -e "$t" ] || continue
   run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B"
 done
+# The cluster (issue 16): real redis-server, nginx and tocherd replicas on loopback.
+for t in tests/cluster/*.py; do
+  [ -e "$t" ] || continue
+  run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B"
+done
 for t in tests/stability/test_*.py; do
   [ -e "$t" ] || continue
   run_suite "$(basename "$t")" /usr/bin/python3 "$t" "$B"

@@ -61,6 +61,7 @@ class Run:
         self.daemon = load(outdir, "daemon.json")
         self.stored = load(outdir, "stored.json") if os.path.exists(os.path.join(outdir, "stored.json")) else None
         self.redis = load(outdir, "redis.json") if os.path.exists(os.path.join(outdir, "redis.json")) else None
+        self.cluster = load(outdir, "cluster.json") if os.path.exists(os.path.join(outdir, "cluster.json")) else None
         self.names = [n for n in self.toch["meshes"] if n in self.peers["meshes"]]
         try:
             with open(os.path.join(outdir, "lscpu.txt")) as f:
@@ -255,6 +256,60 @@ float32 without the encoder reaches %.0f/s. A first view of fresh tiles is bound
 (issue 16) are not."""
 
 
+def section_cluster(cl):
+    """Tiles/s through nginx with 1, 2 and 3 replicas (bench/perf/cluster.py). Also spliced into an
+    existing page: report.py --cluster OUTDIR docs/performance.md."""
+    if not cl:
+        return "(not measured: cluster.json is missing)"
+    base = cl["runs"][0]["tiles_per_s"]
+    rows = []
+    for r in cl["runs"]:
+        share = sorted(r["per_upstream"].values(), reverse=True)
+        rows.append([r["replicas"], "%.0f" % r["tiles_per_s"], ratio(r["tiles_per_s"], base),
+                     "%.1f ms" % (r["p50_us"] / 1e3), "%.1f ms" % (r["p99_us"] / 1e3), r["errors"] + r["non2xx"],
+                     r["cache_hits"], " / ".join(str(n) for n in share)])
+    best = max(cl["runs"], key=lambda r: r["tiles_per_s"])
+    return ("Measured %s on this %d-core machine (bench/perf/cluster.py): redis-server, the replicas and nginx "
+            "(deploy/nginx/tocher.conf, 1 worker) as real processes on loopback (deploy/cluster.py), store: %s, daemon: %s. "
+            "wrk (%d threads, %d keep-alive connections, %d s) GETs 256² PNG tiles of %d stored 10k-triangle "
+            "meshes at z = %d through nginx, every URL once, so nginx's tile cache answers none of them "
+            "(\"cache hits\", from nginx's access log, says so); \"requests per replica\" is the consistent "
+            "hash's split, from the same log.\n\n" %
+            (cl["date"], cl["cores"], cl["store"], cl.get("tocherd", "?"), cl["wrk_threads"], cl["connections"], cl["seconds"],
+             cl["meshes"], cl["zoom"]) +
+            table(["replicas", "tiles/s", "vs 1", "p50", "p99", "errors", "cache hits", "requests per replica"], rows) +
+            "\n\nThe best is %.0f tiles/s with %d replica(s); the machine's load average was %s at the start "
+            "(it is shared). Everything runs on the same %d cores — wrk, nginx and every replica, each of which "
+            "already runs 2 HTTP threads and 4 workers — so on this machine more replicas cannot add capacity "
+            "(beyond %d they only split the same cores): the rows' differences are more threads contending for "
+            "those cores and the share the machine's other users leave, not throughput a deployment gains. What "
+            "carries over to a deployment where each replica has its own cores is the split: each replica serves "
+            "the meshes that hash to it, and meshes hash unevenly (the last column), so size for the busiest "
+            "replica, not the average.\n"
+            % (best["tiles_per_s"], best["replicas"], cl.get("loadavg", "?"), cl["cores"], cl["cores"]))
+
+
+def splice(dest, heading, text):
+    """Replaces the section `heading` of the page dest by text (or adds it before the next
+    section after "## Stored meshes", or at the end): one benchmark rerun without the others."""
+    with open(dest) as f:
+        doc = f.read()
+    block = "## %s\n\n%s\n" % (heading, text.rstrip("\n"))
+    start = doc.find("## %s\n" % heading)
+    if start < 0:
+        anchor = doc.find("## Stored meshes")
+        nxt = doc.find("\n## ", anchor + 1) if anchor >= 0 else -1
+        doc = doc[:nxt + 1] + block + "\n" + doc[nxt + 1:] if nxt >= 0 else doc.rstrip("\n") + "\n\n" + block
+    else:
+        end = doc.find("\n## ", start + 1)
+        doc = doc[:start] + block + (doc[end:] if end >= 0 else "")
+    with open(dest, "w") as f:
+        f.write(doc)
+
+
+CLUSTER_HEADING = "A cluster: tiles through nginx with 1, 2 and 3 replicas"
+
+
 def section_skip(r):
     d = r.daemon
     big = r.names[-1] if r.names else None
@@ -332,6 +387,10 @@ def targets(r):
 
 
 def main():
+    if sys.argv[1] == "--cluster":  # only the cluster section, into an existing page
+        outdir, dest = sys.argv[2], sys.argv[3]
+        splice(dest, CLUSTER_HEADING, section_cluster(load(outdir, "cluster.json")))
+        return
     outdir, dest = sys.argv[1], sys.argv[2]
     r = Run(outdir)
     v = r.peers["versions"]
@@ -412,6 +471,10 @@ wrk and tocherd share the machine's 2 cores.
 ## Stored meshes in Redis
 
 {section_redis(r.redis)}
+
+## {CLUSTER_HEADING}
+
+{section_cluster(r.cluster)}
 
 ## Work only what a scene needs
 

@@ -1,7 +1,7 @@
 #!/bin/sh
 # run.sh — `make bench`: writes the inputs, times scipy, matplotlib and tocher on them in one run,
 # then the daemon under wrk (stateless routes, then stored-mesh tiles: stored.py; the Redis store:
-# redis.py), and writes
+# redis.py; a cluster behind nginx: cluster.py), and writes
 # docs/performance.md from the figures (bench/perf/report.py).
 #
 #     bench/perf/run.sh BUILD_DIR          (BENCH_QUICK=1: the three small meshes only)
@@ -25,6 +25,8 @@ echo "bench: stored meshes (tiles)"
 $PY bench/perf/stored.py "$B" > "$OUT/stored.json"
 echo "bench: stored meshes in Redis (bytes, cache misses)"
 $PY bench/perf/redis.py "$B" > "$OUT/redis.json"
+echo "bench: tiles through nginx with 1, 2 and 3 replicas (redis, tocherd, nginx on loopback)"
+$PY bench/perf/cluster.py "$B" > "$OUT/cluster.json"
 lscpu > "$OUT/lscpu.txt" 2>/dev/null || true
 $PY bench/perf/report.py "$OUT" docs/performance.md
 echo "bench: wrote docs/performance.md"
