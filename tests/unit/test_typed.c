@@ -13,6 +13,8 @@
 #include "io/request.h"
 #include "io/request_write.h"
 
+#include <cJSON.h>
+
 /* ---- writing typed arrays ---------------------------------------------------------- */
 
 /* {"dtype": dtype, "shape": [...], "data": base64(bytes)} appended to b. */
@@ -290,4 +292,120 @@ TEST(typed_refusals_name_their_path) {
             TC_REQ_MALFORMED, "gradients", "shape [4, 2]: expected [n, 2, 2] (2 channels, as values)");
     REFUSED("values", "[[0,0],[1,1],[2,2],[3,3]],\"encoding\":\"hex\"", TC_REQ_INVALID, "encoding",
             "unknown encoding 'hex'");
+}
+
+/* ---- answers with "encoding": "base64" --------------------------------------------- */
+
+/* The float64 array a typed answer member holds, checked for its shape; NULL if malformed. */
+static double *typed_member(const cJSON *root, const char *name, const size_t *shape, int ndim, size_t *count) {
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(root, name);
+    const cJSON *dt = cJSON_GetObjectItemCaseSensitive(t, "dtype"), *sh = cJSON_GetObjectItemCaseSensitive(t, "shape");
+    const cJSON *data = cJSON_GetObjectItemCaseSensitive(t, "data");
+    if (!cJSON_IsString(dt) || strcmp(dt->valuestring, "float64") || !cJSON_IsArray(sh) || !cJSON_IsString(data))
+        return NULL;
+    if (cJSON_GetArraySize(sh) != ndim) return NULL;
+    size_t n = 1;
+    for (int k = 0; k < ndim; k++) {
+        if (cJSON_GetArrayItem(sh, k)->valuedouble != (double)shape[k]) return NULL;
+        n *= shape[k];
+    }
+    size_t len = strlen(data->valuestring), bad;
+    const char *why;
+    if (tc_base64_decoded_len(data->valuestring, len) != n * 8) return NULL;
+    double *x = malloc(n * 8 + 8);
+    if (x && tc_base64_decode(data->valuestring, len, x, &bad, &why)) free(x), x = NULL;
+    *count = n;
+    return x;
+}
+
+/* Flattens a JSON answer's nested numbers (null -> NaN, repeated `width` times). */
+static size_t flatten(const cJSON *v, double *out, size_t k, int width) {
+    if (cJSON_IsNumber(v)) return out[k] = v->valuedouble, k + 1;
+    if (cJSON_IsNull(v)) {
+        for (int i = 0; i < width; i++) out[k++] = NAN;
+        return k;
+    }
+    for (const cJSON *e = v->child; e; e = e->next) k = flatten(e, out, k, width);
+    return k;
+}
+
+/* Same bits, NaN matching NaN (the JSON null). */
+static int same(double a, double b) { return isnan(a) ? isnan(b) : !memcmp(&a, &b, sizeof a); }
+
+static cJSON *answer(int status_want, const char *body, int ordinates) {
+    tc_strbuf out;
+    tc_api_result res;
+    tc_api_result_init(&res);
+    tc_strbuf_init(&out);
+    int st = ordinates ? tc_api_ordinates(body, strlen(body), NULL, &out, &res)
+                       : tc_api_evaluate(body, strlen(body), NULL, 0, NULL, &out, &res);
+    CHECK_MSG(st == status_want, "status %d: %s", st, res.diags.count ? res.diags.items[0].message : "");
+    cJSON *root = st == 200 ? cJSON_Parse(out.buf) : NULL;
+    tc_strbuf_free(&out);
+    tc_api_result_free(&res);
+    return root;
+}
+
+/* Ordinates: [T, C, K] float64, the JSON form's doubles bit for bit, NaN rows for a
+ * dropped triangle (null in JSON). */
+TEST(typed_ordinates_answer_equals_json) {
+    const char *mesh = "\"vertices\":[[0,0],[1,0],[1,1],[0,1],[2,2]],\"triangles\":[[0,1,2],[0,2,3],[0,2,4]],"
+                       "\"values\":[[0.1,1],[1,2],[2.5,3],[3,4.75],[1e-9,5]],\"degenerate\":\"drop\"";
+    static const char *const methods[] = {"clough-tocher", "powell-sabin", "linear"};
+    for (size_t m = 0; m < 3; m++) {
+        char j[1024], t[1024];
+        snprintf(j, sizeof j, "{%s,\"method\":\"%s\"}", mesh, methods[m]);
+        snprintf(t, sizeof t, "{%s,\"method\":\"%s\",\"encoding\":\"base64\"}", mesh, methods[m]);
+        cJSON *rj = answer(200, j, 1), *rt = answer(200, t, 1);
+        if (!rj || !rt) {
+            cJSON_Delete(rj), cJSON_Delete(rt);
+            continue;
+        }
+        size_t K = (size_t)cJSON_GetArraySize(cJSON_GetObjectItem(rj, "labels")), n = 0;
+        size_t shape[3] = {3, 2, K};
+        double *x = typed_member(rt, "ordinates", shape, 3, &n);
+        double *y = calloc(3 * 2 * K, sizeof *y);
+        size_t k = flatten(cJSON_GetObjectItem(rj, "ordinates"), y, 0, (int)(2 * K));
+        CHECK_MSG(x && k == n, "%s: typed ordinates missing or of another size (%zu vs %zu)", methods[m], k, n);
+        int bad = 0;
+        for (size_t i = 0; x && i < n && i < k; i++) bad += !same(x[i], y[i]);
+        CHECK_MSG(!bad, "%s: %d ordinates differ", methods[m], bad);
+        CHECK(x && isnan(x[2 * 2 * K]) && !isnan(x[0])); /* triangle 2 is degenerate: dropped */
+        CHECK(cJSON_GetObjectItem(rj, "labels") && cJSON_GetObjectItem(rt, "labels"));
+        free(x), free(y);
+        cJSON_Delete(rj), cJSON_Delete(rt);
+    }
+}
+
+/* Evaluate: values [n] (plain) or [n, C], gradients [n, 2] or [n, C, 2], NaN outside. */
+TEST(typed_evaluate_answer_equals_json) {
+    static const char *const vals[] = {"[0,1,2.5,3]", "[[0,1],[1,2],[2,3],[3,4]]"};
+    for (int c = 0; c < 2; c++) {
+        char j[1024], t[1024];
+        const char *pts = "\"points\":[[0.5,0.25],[0.1,0.7],[5,5],[0.999,0.001]],\"with_gradients\":true";
+        snprintf(j, sizeof j, "{\"vertices\":[[0,0],[1,0],[1,1],[0,1]],\"triangles\":[[0,1,2],[0,2,3]],"
+                 "\"values\":%s,%s}", vals[c], pts);
+        snprintf(t, sizeof t, "{\"vertices\":[[0,0],[1,0],[1,1],[0,1]],\"triangles\":[[0,1,2],[0,2,3]],"
+                 "\"values\":%s,%s,\"encoding\":\"base64\"}", vals[c], pts);
+        cJSON *rj = answer(200, j, 0), *rt = answer(200, t, 0);
+        if (!rj || !rt) {
+            cJSON_Delete(rj), cJSON_Delete(rt);
+            continue;
+        }
+        size_t nc = (size_t)c + 1, n = 0, ng = 0;
+        size_t vs[2] = {4, nc}, gs[3] = {4, nc, 2}, gs1[2] = {4, 2};
+        double *v = typed_member(rt, "values", vs, c ? 2 : 1, &n);
+        double *g = c ? typed_member(rt, "gradients", gs, 3, &ng) : typed_member(rt, "gradients", gs1, 2, &ng);
+        double yv[8], yg[16];
+        size_t kv = flatten(cJSON_GetObjectItem(rj, "values"), yv, 0, (int)nc);
+        size_t kg = flatten(cJSON_GetObjectItem(rj, "gradients"), yg, 0, (int)(2 * nc));
+        CHECK_MSG(v && g && kv == n && kg == ng, "channels %zu: shapes", nc);
+        for (size_t i = 0; v && i < n && i < kv; i++) CHECK(same(v[i], yv[i]));
+        for (size_t i = 0; g && i < ng && i < kg; i++) CHECK(same(g[i], yg[i]));
+        CHECK(v && isnan(v[2 * nc]));
+        const cJSON *o = cJSON_GetObjectItem(rt, "outside");
+        CHECK(cJSON_GetArraySize(o) == 1 && cJSON_GetArrayItem(o, 0)->valueint == 2);
+        free(v), free(g);
+        cJSON_Delete(rj), cJSON_Delete(rt);
+    }
 }
