@@ -75,28 +75,41 @@ static int fail(size_t at, const char *reason, size_t *bad, const char **why) {
     return -1;
 }
 
-/* Each character of s[0..len) (a multiple of 4) is in the alphabet but for the padding. */
-static int check_chars(const char *s, size_t len, size_t pad, size_t *bad, const char **why) {
-    for (size_t i = 0; i < len - pad; i++)
+/* Each character of s[from..len - pad) is in the alphabet (the pad last ones are '='). */
+static int check_chars(const char *s, size_t from, size_t len, size_t pad, size_t *bad, const char **why) {
+    for (size_t i = from; i < len - pad; i++)
         if (sextet((unsigned char)s[i]) < 0)
             return fail(i, s[i] == '=' ? "'=' before the end" : "a character outside the base64 alphabet", bad,
                         why);
     return 0;
 }
 
+/* Decodes the full groups s[0..4 * groups) into o, one pass: the OR of the sextets is
+ * negative iff some character is outside the alphabet (-1 in the table). 0 or -1. */
+static int decode_groups(const char *s, size_t groups, unsigned char *o) {
+    int any = 0;
+    for (size_t g = 0; g < groups; g++, s += 4, o += 3) {
+        int a = sextet((unsigned char)s[0]), b = sextet((unsigned char)s[1]);
+        int c = sextet((unsigned char)s[2]), d = sextet((unsigned char)s[3]);
+        any |= a | b | c | d;
+        uint32_t w = (uint32_t)a << 18 | (uint32_t)b << 12 | (uint32_t)c << 6 | (uint32_t)d;
+        o[0] = (unsigned char)(w >> 16), o[1] = (unsigned char)(w >> 8), o[2] = (unsigned char)w;
+    }
+    return any < 0 ? -1 : 0;
+}
+
 int tc_base64_decode(const char *s, size_t len, void *out, size_t *bad, const char **why) {
     unsigned char *o = out;
     if (len % 4) return fail(len, "length not a multiple of 4 (padding missing?)", bad, why);
     if (len == 0) return 0;
-    size_t pad = padding(s, len);
-    if (check_chars(s, len, pad, bad, why)) return -1;
-    size_t full = (len - (pad ? 4 : 0)) / 4, i = 0;
-    for (size_t g = 0; g < full; g++, i += 4, o += 3) { /* characters checked above */
-        uint32_t w = (uint32_t)sextet((unsigned char)s[i]) << 18 | (uint32_t)sextet((unsigned char)s[i + 1]) << 12 |
-                     (uint32_t)sextet((unsigned char)s[i + 2]) << 6 | (uint32_t)sextet((unsigned char)s[i + 3]);
-        o[0] = (unsigned char)(w >> 16), o[1] = (unsigned char)(w >> 8), o[2] = (unsigned char)w;
+    size_t pad = padding(s, len), full = (len - (pad ? 4 : 0)) / 4, i = 4 * full;
+    if (decode_groups(s, full, o)) { /* out holds garbage; this second pass finds where */
+        check_chars(s, 0, len, pad, bad, why);
+        return -1;
     }
     if (!pad) return 0;
+    if (check_chars(s, i, len, pad, bad, why)) return -1; /* the last group, before its '=' */
+    o += 3 * full;
     uint32_t w = (uint32_t)sextet((unsigned char)s[i]) << 18 | (uint32_t)sextet((unsigned char)s[i + 1]) << 12;
     if (pad == 1) w |= (uint32_t)sextet((unsigned char)s[i + 2]) << 6;
     if (w & (pad == 1 ? 0xFFu : 0xFFFFu)) /* bits the padding drops must be zero */
