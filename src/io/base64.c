@@ -61,7 +61,8 @@ static int sextet(unsigned char c) { return sextets[c]; }
 
 /* '=' characters at the end (0, 1 or 2 in valid text). */
 static size_t padding(const char *s, size_t len) {
-    return len >= 4 ? (s[len - 1] == '=') + (s[len - 1] == '=' && s[len - 2] == '=') : 0;
+    if (len < 4 || s[len - 1] != '=') return 0;
+    return s[len - 2] == '=' ? 2 : 1;
 }
 
 size_t tc_base64_decoded_len(const char *s, size_t len) {

@@ -90,7 +90,11 @@ static void open_container(scanner *sc, char kind) {
 static int64_t number_at(const scanner *sc, size_t i) {
     char buf[32];
     size_t k = 0;
-    while (i < sc->len && k + 1 < sizeof buf && strchr("0123456789.eE+-", sc->s[i])) buf[k++] = sc->s[i++];
+    for (; i < sc->len && k + 1 < sizeof buf; i++) {
+        char c = sc->s[i];
+        if (!c || !strchr("0123456789.eE+-", c)) break;
+        buf[k++] = c;
+    }
     buf[k] = '\0';
     double d = k ? strtod(buf, NULL) : -1;
     return d >= 0 && d < 9.2e18 ? (int64_t)d : d >= 9.2e18 ? INT64_MAX : -1;
