@@ -409,3 +409,29 @@ TEST(typed_evaluate_answer_equals_json) {
         cJSON_Delete(rj), cJSON_Delete(rt);
     }
 }
+
+/* Every allocation of a typed request may fail: NOMEM, nothing leaked (ASan in `make
+ * check`), until enough succeed; scratch buffers of float32 data included. */
+TEST(typed_request_out_of_memory) {
+    char *t = full_request(1);
+    int nomem = 0, ok = 0;
+    for (long k = 1; k <= 60 && !ok; k++) {
+        tc_request *r = (tc_request *)1;
+        tc_diags d;
+        tc_diags_init(&d);
+        tc_request__fail_alloc_after(k);
+        int st = tc_request_parse(t, strlen(t), TC_REQ_MESH, &r, &d);
+        tc_request__fail_alloc_after(0);
+        if (st == TC_REQ_NOMEM) {
+            nomem++;
+            CHECK(r == NULL && d.errors >= 1);
+        } else {
+            CHECK_MSG(st == TC_REQ_OK, "status %d at failure %ld", st, k);
+            ok++;
+        }
+        tc_request_free(r == (tc_request *)1 ? NULL : r);
+        tc_diags_free(&d);
+    }
+    CHECK(ok == 1 && nomem >= 15);
+    free(t);
+}
