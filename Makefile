@@ -16,7 +16,8 @@ LDFLAGS ?=
 
 DEBIAN_PACKAGES := build-essential pkg-config libcjson-dev libmicrohttpd-dev libopenimageio-dev \
                    openimageio-tools python3-openimageio python3-scipy python3-matplotlib python3-yaml \
-                   python3-jsonschema curl wrk chromium libhiredis-dev libzstd-dev redis-server nginx-light
+                   python3-jsonschema python3-numpy curl wrk chromium libhiredis-dev libzstd-dev redis-server \
+                   nginx-light
 
 CJSON_CFLAGS := $(shell pkg-config --cflags libcjson 2>/dev/null)
 CJSON_LIBS   := $(shell pkg-config --libs libcjson 2>/dev/null || echo -lcjson)

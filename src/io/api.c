@@ -179,7 +179,7 @@ int tc_api_ordinates(const char *body, size_t len, const tc_api_limits *lim, tc_
     tc_strbuf b;
     tc_strbuf_init(&b);
     tc_strbuf_putc(&b, '{');
-    tc_json_ordinates(&b, j.recon);
+    tc_json_ordinates_enc(&b, j.recon, j.req->encoding_base64);
     job_free(&j);
     int rc = finish(out, &b, res);
     lap(res, TC_PHASE_ENCODE, &t0);
@@ -215,7 +215,8 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b, const tc_
     if (rc == TC_OK && eval_chunked(j, L ? L : j->locator, pts, nc, val, grad, tri, lim, res)) rc = TC_ETIMEOUT;
     if (rc == TC_OK) {
         tc_strbuf_putc(b, '{');
-        tc_json_points(b, nc, n, val, grad, tri, j->req->values_plain);
+        tc_json_points_enc(b, nc, n, val, grad, tri, j->req->values_plain,
+                           pts->encoding_base64 || j->req->encoding_base64);
     }
     tc_locator_free(L);
     free(val), free(grad), free(tri);
@@ -735,6 +736,7 @@ int tc_api_job_build(const char *body, size_t len, const tc_api_limits *lim, tc_
     }
     /* As a rebuild from the canonical form (plain numbers for one channel) answers. */
     J->j.req->values_plain = J->j.req->desc.nchan == 1;
+    J->j.req->encoding_base64 = 0; /* the stored mesh is one resource, whatever encoding its POST asked */
     add_warnings(&J->warnings, &res->diags);
     fill_info(J);
     *out = J;

@@ -1,5 +1,6 @@
 /* jsonout.c — JSON output primitives shared by the response writers, the
  * request writer and /v1/compare; numbers go through the exact printer. */
+#include "io/base64.h"
 #include "io/jsonout.h"
 #include "io/options.h"
 
@@ -16,6 +17,23 @@ void tc_json_numbers(tc_strbuf *b, const double *x, int n) {
         tc_strbuf_double(b, x[i]);
     }
     tc_strbuf_putc(b, ']');
+}
+
+void tc_json_typed(tc_strbuf *b, const double *x, const size_t *shape, int ndim) {
+    size_t count = 1;
+    tc_strbuf_puts(b, "{\"dtype\":\"float64\",\"shape\":[");
+    for (int k = 0; k < ndim; k++) {
+        if (k) tc_strbuf_putc(b, ',');
+        tc_strbuf_int(b, (long long)shape[k]);
+        count *= shape[k];
+    }
+    tc_strbuf_puts(b, "],\"data\":\"");
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#error "tc_json_typed writes the host's doubles as little-endian bytes"
+#else
+    tc_base64_append(b, x, count * sizeof *x);
+#endif
+    tc_strbuf_puts(b, "\"}");
 }
 
 void tc_json_ints(tc_strbuf *b, const int32_t *x, int n) {

@@ -12,6 +12,9 @@
 void tc_json_key(tc_strbuf *b, const char *sep, const char *name);
 /* [x0,x1,...] with every double exact. */
 void tc_json_numbers(tc_strbuf *b, const double *x, int n);
+/* A typed array {"dtype":"float64","shape":[...],"data":"<base64>"} of the
+ * doubles x in C order, shape[0..ndim) (the request's typed-array format, io/typed.h). */
+void tc_json_typed(tc_strbuf *b, const double *x, const size_t *shape, int ndim);
 void tc_json_ints(tc_strbuf *b, const int32_t *x, int n);
 /* "method" and the options it reads (io/options.c, tc_method_reads), as
  * members of the object being written. */

@@ -1,5 +1,6 @@
 /* prescan.c — counts the limited arrays of a JSON body in its bytes, so that a body
  * over a limit is refused before cJSON spends ~40 bytes of tree per byte of input. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "io/prescan.h"
@@ -11,6 +12,9 @@ typedef struct {
     char array;            /* '[' or '{' */
     char want;             /* array: a value may start; object: a key may start */
     int limit;             /* array: index into the limits, -1 when not limited */
+    int shape_of;          /* array: the "shape" of a typed array given for limit shape_of
+                            * ({"dtype", "shape": [n, ...], "data"}): its first length is
+                            * that array's element count; -1 otherwise */
     int64_t count;         /* array: elements begun so far */
     char named;            /* every step from the root is an object key */
     char path[KEY_MAX];    /* those keys, joined by '.' */
@@ -23,6 +27,7 @@ typedef struct {
     const tc_scan_limit *lim;
     int n;
     int depth; /* open containers; only the first MAX_TRACKED are tracked */
+    int64_t shape_count; /* a typed array's count over its limit (step returns 2) */
     level lv[MAX_TRACKED];
 } scanner;
 
@@ -75,6 +80,24 @@ static void open_container(scanner *sc, char kind) {
     l->key[0] = '\0';
     name_child(up, root, l);
     l->limit = kind == '[' && l->named ? find_limit(sc, l->path) : -1;
+    /* "points": {"shape": [ ... opens: up is the typed array's object, named by the limited path. */
+    l->shape_of = kind == '[' && !root && up && up->array == '{' && up->named && !strcmp(up->key, "shape")
+                      ? find_limit(sc, up->path)
+                      : -1;
+}
+
+/* The number starting at byte i (the first length of a typed array's shape), or -1. */
+static int64_t number_at(const scanner *sc, size_t i) {
+    char buf[32];
+    size_t k = 0;
+    for (; i < sc->len && k + 1 < sizeof buf; i++) {
+        char c = sc->s[i];
+        if (!c || !strchr("0123456789.eE+-", c)) break;
+        buf[k++] = c;
+    }
+    buf[k] = '\0';
+    double d = k ? strtod(buf, NULL) : -1;
+    return d >= 0 && d < 9.2e18 ? (int64_t)d : d >= 9.2e18 ? INT64_MAX : -1;
 }
 
 /* A value begins in the current container: count it if that is a limited array.
@@ -146,6 +169,12 @@ static int step(scanner *sc) {
         open_container(sc, c);
         return 0;
     default: {
+        if (l && l->shape_of >= 0 && l->want && l->count == 0) { /* a typed array's length */
+            int64_t n = number_at(sc, sc->i - 1);
+            value_begins(sc);
+            if (n > sc->lim[l->shape_of].max) return sc->shape_count = n, 2;
+            return 0;
+        }
         int over = value_begins(sc);
         if (over) sc->i--;
         return over;
@@ -156,8 +185,13 @@ static int step(scanner *sc) {
 int tc_prescan(const char *json, size_t len, const tc_scan_limit *lim, int n, int64_t *count) {
     scanner sc = {.s = json, .len = len, .lim = lim, .n = n};
     while (json && sc.i < len) {
-        if (!step(&sc)) continue;
+        int over = step(&sc);
+        if (!over) continue;
         level *l = top(&sc);
+        if (over == 2) { /* a typed array: its shape says the count, no data is decoded */
+            *count = sc.shape_count;
+            return l->shape_of;
+        }
         l->want = 1, l->count--; /* the element that passed the limit is counted again */
         *count = finish_count(&sc);
         return l->limit;

@@ -16,7 +16,9 @@ typedef struct {
 /* Index of the first limit in lim[0..n) whose array holds more than its max
  * elements, with that array's full element count in *count; -1 if none is over.
  * The bytes need not be valid JSON (the parser reports syntax afterwards); the
- * scan allocates nothing and reads each byte once. */
+ * scan allocates nothing and reads each byte once. A limited array given as a
+ * typed array ({"dtype", "shape": [n, ...], "data"}) counts n, its shape's first
+ * length, without decoding the data. */
 int tc_prescan(const char *json, size_t len, const tc_scan_limit *lim, int n, int64_t *count);
 
 #endif

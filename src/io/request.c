@@ -7,6 +7,7 @@
 #include "io/options.h"
 #include "io/reader.h"
 #include "io/request_fields.h"
+#include "io/typed.h"
 
 /* Roles of top-level fields, for the presence rules. */
 enum {
@@ -45,6 +46,7 @@ static const tc__field top_fields[] = {
     {"linear", tc__parse_linear, 0, ""},
     {"background", tc__parse_background, 0, ""},
     {"reference", tc__parse_reference, ROLE_REFERENCE, "{points, values}"},
+    {"encoding", tc__parse_encoding, 0, ""},
     {"methods", NULL, 0, ""}, /* after the options, which its entries start from */
 };
 #define NTOP ((int)(sizeof top_fields / sizeof top_fields[0]))
@@ -178,7 +180,8 @@ int tc_request_parse_for(const char *json, size_t len, unsigned expect, int ncha
     rd.r = r;
     cJSON *root = parse_json(&rd, json, len);
     if (root) {
-        read_request(&rd, root);
+        tc__rd_expand_nested(&rd, root); /* typed arrays inside per-entry fields, as JSON */
+        if (!rd.nomem) read_request(&rd, root);
         cJSON_Delete(root); /* the request keeps only its own arrays */
     }
     int status = rd.nomem ? TC_REQ_NOMEM

@@ -33,6 +33,7 @@ typedef struct tc_request {
     size_t npoints;     /* "points": [[x,y],...] */
     double *points;     /* [npoints][2], NULL when npoints == 0 */
     int with_gradients; /* "with_gradients": true asks /v1/evaluate for gradients */
+    int encoding_base64; /* "encoding": "base64": the answer's big arrays as typed arrays (float64) */
 
     /* /v1/render */
     int has_viewport;

@@ -35,6 +35,8 @@ void tc__parse_exposure(tc__reader *rd, const cJSON *v, const tc__jpath *p);
 void tc__parse_overlay(tc__reader *rd, const cJSON *v, const tc__jpath *p);
 void tc__parse_linear(tc__reader *rd, const cJSON *v, const tc__jpath *p);
 void tc__parse_background(tc__reader *rd, const cJSON *v, const tc__jpath *p);
+/* "encoding": how the answer's big arrays are written. */
+void tc__parse_encoding(tc__reader *rd, const cJSON *v, const tc__jpath *p);
 void tc__parse_reference(tc__reader *rd, const cJSON *v, const tc__jpath *p);
 
 #endif

@@ -7,13 +7,101 @@
 
 #include "io/reader.h"
 #include "io/request_fields.h"
+#include "io/typed.h"
 
 /* ---- fields: geometry ------------------------------------------------------------- */
 
-/* [[x, y], ...] into a new [n][2] array (vertices, points). */
+/* ---- typed arrays (io/typed.h) in place of the big JSON arrays ---------------------- */
+
+/* The first length of t (its entries) must be at most max: 0, or -1 after reporting. */
+static int typed_entries(tc__reader *rd, const tc__typed *t, const tc__jpath *p, size_t max) {
+    if (t->shape[0] <= max) return 0;
+    tc__rd_value_error(rd, p, "too many entries (%zu, at most %zu)", t->shape[0], max);
+    return -1;
+}
+
+/* A typed [n, 2] array of points into a new [n][2] array. */
+static int typed_xy(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t max, size_t *n_out, double **xy_out) {
+    static const size_t dims[2] = {0, 2};
+    tc__typed t;
+    if (tc__rd_typed(rd, v, p, 0, &t) || tc__typed_dims(rd, &t, p, 2, dims, "[n, 2]") ||
+        typed_entries(rd, &t, p, max))
+        return -1;
+    double *xy = tc__rd_alloc(rd, t.shape[0], 2 * sizeof *xy);
+    if (t.count && !xy) return -1;
+    tc__typed_doubles(rd, &t, p, xy); /* element errors are counted, as in the JSON form */
+    *n_out = t.shape[0];
+    *xy_out = xy;
+    return 0;
+}
+
+/* A typed [n, k] array of int32 or uint32 indices into a new [n][k] array; n, or -1. */
+static int64_t typed_elements(tc__reader *rd, const cJSON *v, const tc__jpath *p, int k, size_t max, int32_t **out) {
+    size_t dims[2] = {0, (size_t)k};
+    char expected[16];
+    snprintf(expected, sizeof expected, "[n, %d]", k);
+    tc__typed t;
+    if (tc__rd_typed(rd, v, p, 1, &t) || tc__typed_dims(rd, &t, p, 2, dims, expected) ||
+        typed_entries(rd, &t, p, max))
+        return -1;
+    int32_t *idx = tc__rd_alloc(rd, t.count, sizeof *idx);
+    if (t.count && !idx) return -1;
+    tc__typed_indices(rd, &t, p, idx);
+    *out = idx;
+    return (int64_t)t.shape[0];
+}
+
+/* A typed [n] (one channel, plain numbers) or [n, C] array of values. */
+static void typed_values(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
+    tc__typed t;
+    char shape[96];
+    if (tc__rd_typed(rd, v, p, 0, &t)) return;
+    if (t.ndim > 2) {
+        tc__rd_shape_error(rd, p, "shape %s: expected [n] or [n, C]", tc__typed_shape_text(&t, shape, sizeof shape));
+        return;
+    }
+    if (t.ndim == 2 && (t.shape[1] < 1 || t.shape[1] > TC_MAX_CHANNELS)) {
+        tc__rd_value_error(rd, p, "shape %s: %zu channels, expected 1 to %d", tc__typed_shape_text(&t, shape, sizeof shape),
+                           t.shape[1], TC_MAX_CHANNELS);
+        return;
+    }
+    if (typed_entries(rd, &t, p, INT32_MAX)) return;
+    rd->nchan = t.ndim == 2 ? (int)t.shape[1] : 1;
+    rd->r->values_plain = t.ndim == 1;
+    tc__rd_per_vertex(rd, p, t.shape[0]);
+    double *z = tc__rd_alloc(rd, t.count, sizeof *z);
+    if (t.count && !z) return;
+    tc__typed_doubles(rd, &t, p, z);
+    rd->r->desc.nchan = rd->nchan;
+    rd->r->desc.values = z;
+}
+
+/* A typed [n, C, dim] array of per-vertex vectors (also [n, dim] for one channel):
+ * every vertex has one (the JSON form's null is not expressible; mask stays NULL). */
+static void typed_vertex_vectors(tc__reader *rd, const cJSON *v, const tc__jpath *p, int dim, const double **data) {
+    size_t C = (size_t)rd->nchan, d3[3] = {0, C, (size_t)dim}, d2[2] = {0, (size_t)dim};
+    char expected[64];
+    if (C == 1) snprintf(expected, sizeof expected, "[n, %d] or [n, 1, %d]", dim, dim);
+    else snprintf(expected, sizeof expected, "[n, %zu, %d] (%zu channels, as values)", C, dim, C);
+    tc__typed t;
+    if (tc__rd_typed(rd, v, p, 0, &t)) return;
+    int plain = C == 1 && t.ndim == 2;
+    if (tc__typed_dims(rd, &t, p, plain ? 2 : 3, plain ? d2 : d3, expected) || typed_entries(rd, &t, p, INT32_MAX))
+        return;
+    tc__rd_per_vertex(rd, p, t.shape[0]);
+    double *g = tc__rd_alloc(rd, t.count, sizeof *g);
+    if (t.count && !g) return;
+    tc__typed_doubles(rd, &t, p, g);
+    *data = g;
+}
+
+/* ---- fields: geometry ------------------------------------------------------------- */
+
+/* [[x, y], ...] (or a typed [n, 2]) into a new [n][2] array (vertices, points). */
 int tc__rd_xy_list(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t max, size_t *n_out,
                    double **xy_out) {
     size_t n;
+    if (tc__is_typed(v)) return typed_xy(rd, v, p, max, n_out, xy_out);
     if (tc__rd_array(rd, v, p, "an array of points [[x, y], ...]", max, &n)) return -1;
     double *xy = tc__rd_alloc(rd, n, 2 * sizeof *xy);
     if (n && !xy) return -1;
@@ -41,6 +129,7 @@ void tc__parse_vertices(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
 static int64_t read_elements(tc__reader *rd, const cJSON *v, const tc__jpath *p, int k, size_t max,
                              const char *array_what, const char *what, int32_t **out) {
     size_t n, i = 0;
+    if (tc__is_typed(v)) return typed_elements(rd, v, p, k, max, out);
     if (tc__rd_array(rd, v, p, array_what, max, &n)) return -1;
     int32_t *idx = tc__rd_alloc(rd, n, (size_t)k * sizeof *idx);
     if (n && !idx) return -1;
@@ -103,6 +192,10 @@ static int channels_from_first(tc__reader *rd, const cJSON *first, const tc__jpa
 
 void tc__parse_values(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
     size_t n, i = 0;
+    if (tc__is_typed(v)) {
+        typed_values(rd, v, p);
+        return;
+    }
     if (tc__rd_array(rd, v, p, "an array of per-vertex values [z, ...] or [[z1, ..., zC], ...]",
                      INT32_MAX, &n))
         return;
@@ -243,6 +336,10 @@ static void read_vertex_vectors(tc__reader *rd, const cJSON *v, const tc__jpath 
     char shape[96];
     size_t n, i = 0;
     if (!rd->nchan) return;
+    if (tc__is_typed(v)) {
+        typed_vertex_vectors(rd, v, p, dim, data);
+        return;
+    }
     snprintf(shape, sizeof shape, "an array of per-vertex %s (null where not given)", what);
     if (tc__rd_array(rd, v, p, shape, INT32_MAX, &n)) return;
     tc__rd_per_vertex(rd, p, n);

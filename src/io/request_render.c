@@ -8,6 +8,7 @@
 #include "image/format.h"
 #include "io/reader.h"
 #include "io/request_fields.h"
+#include "io/typed.h"
 
 void tc__parse_with_gradients(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
     tc__rd_bool(rd, v, p, &rd->r->with_gradients);
@@ -86,6 +87,19 @@ void tc__parse_exposure(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
     rd->r->exposure = e;
 }
 
+/* "encoding": "json" (the default) or "base64" (the answer's big arrays as typed arrays). */
+void tc__parse_encoding(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
+    if (!tc__json_is(v, cJSON_String) || !v->valuestring) {
+        tc__rd_shape_error(rd, p, "expected a string (\"json\" or \"base64\"), got %s", tc__json_kind(v));
+        return;
+    }
+    if (strcmp(v->valuestring, "json") && strcmp(v->valuestring, "base64")) {
+        tc__rd_value_error(rd, p, "unknown encoding '%.40s'; expected \"json\" or \"base64\"", v->valuestring);
+        return;
+    }
+    rd->r->encoding_base64 = !strcmp(v->valuestring, "base64");
+}
+
 void tc__parse_overlay(tc__reader *rd, const cJSON *v, const tc__jpath *p) { tc__rd_bool(rd, v, p, &rd->r->overlay); }
 void tc__parse_linear(tc__reader *rd, const cJSON *v, const tc__jpath *p) { tc__rd_bool(rd, v, p, &rd->r->linear); }
 
@@ -98,9 +112,32 @@ static const tc__field reference_fields[] = {
 };
 enum { REF_POINTS, REF_VALUES, REF_SCALE, REF_NFIELDS };
 
+/* Typed reference values: [n] (one channel) or [n, C]. */
+static void typed_reference_values(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t n) {
+    tc__typed t;
+    size_t C = (size_t)rd->nchan, d2[2] = {0, C}, d1[1] = {0};
+    char expected[48];
+    snprintf(expected, sizeof expected, C == 1 ? "[n] or [n, 1]" : "[n, %zu] (channels, as values)", C);
+    if (tc__rd_typed(rd, v, p, 0, &t) ||
+        tc__typed_dims(rd, &t, p, C == 1 && t.ndim == 1 ? 1 : 2, C == 1 && t.ndim == 1 ? d1 : d2, expected))
+        return;
+    if (t.shape[0] != n) {
+        tc__rd_value_error(rd, p, "%zu values for %zu points", t.shape[0], n);
+        return;
+    }
+    double *z = tc__rd_alloc(rd, t.count, sizeof *z);
+    if (t.count && !z) return;
+    tc__typed_doubles(rd, &t, p, z);
+    rd->r->reference_values = z;
+}
+
 /* The reference values: one per point, C channels each. */
 static void read_reference_values(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t n) {
     size_t m, i = 0;
+    if (tc__is_typed(v)) {
+        typed_reference_values(rd, v, p, n);
+        return;
+    }
     if (tc__rd_array(rd, v, p, "an array of reference values [z, ...] or [[z1, ..., zC], ...]", SIZE_MAX / 16, &m))
         return;
     if (m != n) {

@@ -96,3 +96,19 @@ TEST(prescan_api_refuses_before_parsing) {
     tc_diags_free(&r2.diags);
     tc_strbuf_free(&out);
 }
+
+/* A limited array given as a typed array counts its shape's first length, data unread. */
+TEST(prescan_typed_arrays_count_their_shape) {
+    int64_t n;
+    CHECK(scan("{\"points\":{\"dtype\":\"float64\",\"data\":\"!!not base64\",\"shape\":[3,2]}}", &n) == 2);
+    CHECK(n == 3);
+    CHECK(scan("{\"points\":{\"shape\":[2,2],\"dtype\":\"float64\",\"data\":\"\"}}", &n) == -1);
+    CHECK(scan("{\"reference\":{\"points\":{\"shape\": [ 11000000 , 2 ],\"data\":\"\"}}}", &n) == 3);
+    CHECK(n == 11000000);
+    CHECK(scan("{\"vertices\":{\"shape\":[4e0,2]}}", &n) == 0); /* a length spelt as a float */
+    CHECK(n == 4);
+    /* "shape" elsewhere, or the second length, counts nothing */
+    CHECK(scan("{\"points\":{\"shape\":[1,99]},\"mesh\":{\"shape\":[99]},\"shape\":[99]}", &n) == -1);
+    CHECK(scan("{\"triangles\":{\"dtype\":\"int32\",\"shape\":[3,3]}}", &n) == 1);
+    CHECK(n == 3);
+}
