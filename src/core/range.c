@@ -26,38 +26,46 @@ void tc__range_note(tc__range_tally *t, double size, int32_t where, int edge) {
     t->size[i] = size, t->where[i] = where, t->edge[i] = edge;
 }
 
+/* x as "%.3g", or in words when it is not a finite number (data near the
+ * double range: a ratio of huge values overflows); b holds 48 bytes. */
+static const char *amount(double x, char *b) {
+    if (isfinite(x)) snprintf(b, 48, "%.3g", x);
+    else snprintf(b, 48, "more than a double holds");
+    return b;
+}
+
 /* One warning per named place, each with the totals: a caller can find the
  * elements by path, a reader sees how much happened. */
 void tc__range_warn(const struct tc_mesh *m, const tc__range_stats *s, tc_range mode, tc_diags *dg) {
     const char *name = mode == TC_RANGE_POSITIVE ? "positive" : "local";
-    char path[48];
+    char path[48], num[48];
     for (int i = 0; i < s->planes.named; i++) {
         snprintf(path, sizeof path, "vertices[%d]", (int)s->planes.where[i]);
         tc_diags_add(dg, TC_SEV_WARNING, path,
-                     "range \"%s\" limited the slope at this vertex to %.3g of its size to keep the reconstruction "
-                     "inside its data's range (%d planes limited in all%s)", name, 1 - s->planes.size[i],
+                     "range \"%s\" limited the slope at this vertex to %s of its size to keep the reconstruction "
+                     "inside its data's range (%d planes limited in all%s)", name, amount(1 - s->planes.size[i], num),
                      (int)s->planes.count, s->flattened ? ", some further so a C1 edge could stay inside" : "");
     }
     for (int i = 0; i < s->edges.named; i++) {
         tc__elem_path(m, s->edges.where[i], path, sizeof path);
         tc_diags_add(dg, TC_SEV_WARNING, path,
                      "range \"%s\": the cross-boundary derivative of edge %d here was limited, its ordinate moved by "
-                     "%.3g of the channel's range (%d in all)", name, s->edges.edge[i], s->edges.size[i],
+                     "%s of the channel's range (%d in all)", name, s->edges.edge[i], amount(s->edges.size[i], num),
                      (int)s->edges.count);
     }
     for (int i = 0; i < s->twists.named; i++) {
         snprintf(path, sizeof path, "vertices[%d]", (int)s->twists.where[i]);
         tc_diags_add(dg, TC_SEV_WARNING, path,
-                     "range \"%s\": the twist (cross derivative) of the patches here was limited to %.3g of its "
-                     "second-order part (%d in all)", name, 1 - s->twists.size[i], (int)s->twists.count);
+                     "range \"%s\": the twist (cross derivative) of the patches here was limited to %s of its "
+                     "second-order part (%d in all)", name, amount(1 - s->twists.size[i], num), (int)s->twists.count);
     }
     for (int i = 0; i < s->kinks.named; i++) {
         tc__elem_path(m, s->kinks.where[i], path, sizeof path);
         tc_diags_add(dg, TC_SEV_WARNING, path,
                      "range \"%s\": edge %d here is joined C0, not C1: no C1 join stays inside the range (the two "
                      "triangles reach far along the edge's line on one side); the kink is the smallest possible, "
-                     "%.3g of the channel's range (%d edges in all); range \"free\" keeps C1 and overshoots",
-                     name, s->kinks.edge[i], s->kinks.size[i], (int)s->kinks.count);
+                     "%s of the channel's range (%d edges in all); range \"free\" keeps C1 and overshoots",
+                     name, s->kinks.edge[i], amount(s->kinks.size[i], num), (int)s->kinks.count);
     }
 }
 

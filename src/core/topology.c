@@ -83,7 +83,13 @@ static int link_edge(struct tc_mesh *m, int32_t t, int k, tc_diags *dg) {
                             (int)tc__elem_index(m, others[0]), (int)tc__elem_index(m, others[1]),
                             nothers > 2 ? ", ..." : "");
     }
-    if ((side_of_third(m, t, k, a, b) > 0) == (side_of_third(m, t2, k2, a, b) > 0)) {
+    /* Both sides measured from the edge's lower-numbered vertex, whichever
+     * triangle asks: from the other end a third vertex within rounding of the
+     * edge's line (a subnormal offset) can come out exactly on it, and then the
+     * two triangles would disagree on which one reports the overlap (it was
+     * refused with no message). */
+    int32_t lo = a < b ? a : b, hi = a < b ? b : a;
+    if ((side_of_third(m, t, k, lo, hi) > 0) == (side_of_third(m, t2, k2, lo, hi) > 0)) {
         if (t2 < t) return TC_EINVAL; /* reported from the lower triangle */
         tc__elem_path(m, t2, path, sizeof path);
         tc__elem_path(m, t, other, sizeof other);

@@ -724,6 +724,32 @@ TEST(validate_sliver_aspect_overflow_warns_in_words) {
     tc_diags_free(&dg);
 }
 
+/* A third vertex a subnormal distance off the shared edge's line: seen from
+ * one end of the edge it lies on the line, from the other it does not. Both
+ * triangles must agree (the edge is measured from its lower-numbered vertex):
+ * it was refused with no message at all (found by the fuzzer). Either order of
+ * the triangles, both offsets: built, with the sliver warning. */
+TEST(validate_subnormal_offset_agrees_on_sides) {
+    const double offsets[2] = {1e-300, 1.1e-319};
+    for (int o = 0; o < 2; o++)
+        for (int swap = 0; swap < 2; swap++) {
+            const double xy[8] = {0, 0, 1, 0, 0, 1, 1, offsets[o]};
+            const double v[4] = {0, 1, 1, 2};
+            const int32_t a[6] = {0, 1, 2, 1, 3, 2}, b[6] = {1, 3, 2, 0, 1, 2};
+            tc_mesh_desc d;
+            tc_mesh_desc_init(&d);
+            d.nverts = 4, d.xy = xy, d.values = v, d.nchan = 1, d.ntris = 2, d.tris = swap ? b : a;
+            tc_diags dg;
+            tc_diags_init(&dg);
+            tc_mesh *m = NULL;
+            int rc = tc_mesh_new(&d, &m, &dg);
+            CHECK_MSG(rc == TC_OK && dg.errors == 0, "offset %g, order %d: rc %d, %d errors, first: %s", offsets[o],
+                      swap, rc, dg.errors, dg.count ? dg.items[0].message : "(none)");
+            tc_mesh_free(m);
+            tc_diags_free(&dg);
+        }
+}
+
 /* ---- 15. errors of tc_recon_new -------------------------------------------------------- */
 
 TEST(validate_recon_tangents_given_missing) {
