@@ -73,8 +73,10 @@ static void cascade_fmt(char out[64], double x) {
  * p-digit decimals around |x| are its correct rounding r ("%.*e") and the
  * neighbour of r on x's other side; the first p where one reads back to x gives
  * the answer, r if it does (it is the nearer: Ryu/Schubfach's tie-break), else the
- * neighbour (possible only where the interval is lopsided, at c = 2^52). Writes
- * the digits (no zeros at the end) into dig and returns the decimal exponent. */
+ * neighbour (possible only where the interval is lopsided, at c = 2^52). A p-digit
+ * decimal in x's rounding interval makes the one of them on its side of x be in it
+ * too, so none is missed. Writes the digits (no zeros at the end) into dig and
+ * returns the decimal exponent. */
 static int shortest_ref(double x, char dig[20]) {
     double ax = fabs(x);
     for (int p = 1; p <= 17; p++) {
@@ -87,7 +89,11 @@ static int shortest_ref(double x, char dig[20]) {
         int e = atoi(c + 1), e10 = e - (p - 1);
         if (!same_bits(strtod(s, NULL), ax)) {
             double r = strtod(s, NULL);
-            m = r < ax ? m + 1 : m - 1;
+            unsigned long long low = 1;        /* 10^(p-1): r = 1.00..e: the one below */
+            for (int i = 1; i < p; i++) low *= 10;  /* is 9.99..9 with an exponent less */
+            if (r < ax) m++;
+            else if (m != low) m--;
+            else m = low * 10 - 1, e10--;
             snprintf(s, sizeof s, "%llue%d", m, e10);
             if (!same_bits(strtod(s, NULL), ax)) continue;
         }
