@@ -96,7 +96,9 @@ static inline void put_digits(char *d, uint64_t m, int nd) {
 static size_t put_g(char *out, uint64_t m, int e10) {
     int nd = digit_count(m), e = e10 + nd - 1, p = nd < 15 ? 15 : nd;
     size_t n;
-    if (e < -4 || e >= p) {                /* d.ddde-XX: digits at out[1..nd], then moved */
+    /* e < -4 or e >= p, as one unsigned compare: a single branch, and it is
+     * predictable on random doubles (mostly %e) as on ordinates (mostly %f) */
+    if ((unsigned)(e + 4) >= (unsigned)(p + 4)) { /* d.ddde-XX: digits at out[1..nd], moved */
         put_digits(out + 1, m, nd);
         out[0] = out[1];
         n = 1;
@@ -197,10 +199,11 @@ static inline decimal schubfach(uint64_t c, int q, int closer) {
     uint64_t u1 = lower <= 40 * sp, w1 = 40 * sp + 40 <= upper;
     uint64_t u0 = lower <= 4 * s, w0 = 4 * s + 4 <= upper;
     uint64_t mid = 4 * s + 2;              /* both in R: the nearer, ties to even */
-    uint64_t up = vb > mid || (vb == mid && (s & 1));
-    uint64_t m0 = s + (u0 != w0 ? w0 : up);   /* never neither: R is >= one step wide */
-    uint64_t coarse = u1 != w1;            /* never both: R is narrower than 10 steps */
-    uint64_t m = coarse ? sp + w1 : m0;
+    uint64_t up = (uint64_t)(vb > mid) | ((uint64_t)(vb == mid) & s); /* & s: s odd */
+    uint64_t one = u0 ^ w0;                /* never neither: R is >= one step wide */
+    uint64_t m0 = s + (one & w0) + ((one ^ 1) & up);
+    uint64_t coarse = u1 ^ w1;             /* never both: R is narrower than 10 steps */
+    uint64_t m = m0 + ((sp + w1 - m0) & (0 - coarse)); /* coarse ? sp + w1 : m0 */
     int e = k + (int)coarse;
     /* Only a coarse answer can end in 0 (a multiple of 10 in R is a multiple of
      * 10^(k+1) in R, which makes the step coarse), and it is > 0 (so is R's lower
@@ -219,12 +222,18 @@ size_t tc_fmt_double(char out[TC_FMT_DOUBLE_SIZE], double x) {
     out[0] = '-';                            /* kept only for a negative x, -0.0 too ("-0"); */
     size_t n = signbit(x) != 0;              /* no branch: random signs mispredict */
     double ax = fabs(x);
-    /* int64_t: one conversion instruction, unlike uint64_t; exact below 2^53 */
-    if (ax < 0x1p53 && (double)(int64_t)ax == ax) {
-        n += put_integer(out + n, (uint64_t)(int64_t)ax);
+    /* An integer below 2^53? t = min(ax, 2^53) keeps the conversion defined, and the
+     * two tests are joined with & (no branch on ax < 2^53, a coin toss on random
+     * doubles); int64_t: one conversion instruction, unlike uint64_t. */
+    uint64_t bits, lim = UINT64_C(0x4340000000000000), tb; /* lim: the bits of 2^53 */
+    memcpy(&bits, &ax, sizeof bits);
+    tb = bits < lim ? bits : lim;            /* ax >= 0: bits order as values do */
+    double t;
+    memcpy(&t, &tb, sizeof t);
+    int64_t i = (int64_t)t;
+    if ((bits < lim) & ((double)i == t)) {
+        n += put_integer(out + n, (uint64_t)i);
     } else {
-        uint64_t bits;
-        memcpy(&bits, &ax, sizeof bits);
         uint64_t frac = bits & ((UINT64_C(1) << 52) - 1);
         int be = (int)(bits >> 52);          /* ax > 0 is finite: 0 <= be <= 2046 */
         uint64_t normal = be != 0;           /* subnormal: c = frac, q = -1074 */
