@@ -5,10 +5,10 @@
 # For each e in [E_MIN, E_MAX] (e = -k of the paper: every power of ten that scales a finite
 # double into [1, 10^17)), with r = floor(log2(10^e)) - 127, the entry is
 #     g = floor(10^e * 2^-r) + 1,   so 2^127 < g <= 2^128 - 1 (the top bit is set)
-# — R. Giulietti, "The Schubfach way to render doubles" (2020), section 9: g over-estimates
-# 10^e * 2^-r by less than 1, which the round-to-odd product tolerates. The script also
-# proves, over the ranges numfmt.c uses, the integer approximations of the logarithms
-# it relies on, and refuses to write the table if one is off.
+# — R. Giulietti, "The Schubfach way to render doubles" (2020): g over-estimates
+# 10^e * 2^-r by at most 1 (exactly 1 where that is an integer), which the round-to-odd
+# product tolerates. The script also proves, over the ranges numfmt.c uses, the integer
+# approximations of the logarithms it relies on, and refuses to write the table if one is off.
 E_MIN, E_MAX = -292, 324
 
 
