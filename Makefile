@@ -2,7 +2,8 @@
 # plugin (libtocher_image.so), the tests and the benchmarks (build/report, build/bench_perf).
 # `make` builds; `make test` runs every test; `make check` runs them under ASan+UBSan, built
 # with -Wconversion and the core's assertions on; `make report` / `make bench` measure
-# (docs/report.md, docs/performance.md); `make torture` attacks the daemon at full size;
+# (docs/report.md, docs/performance.md); `make numfmt-full` runs the number printing tests at the
+# issue's 10^7 size; `make torture` attacks the daemon at full size;
 # `make fuzz` builds the libFuzzer target (tests/fuzz/).
 
 CC      ?= cc
@@ -58,7 +59,7 @@ SRV_OBJ  := $(call obj,$(SRV_SRC))
 BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit check torture run clean report report-quick bench fuzz fuzz-deps cluster cluster-stop
+.PHONY: all deps test test-unit numfmt-full check torture run clean report report-quick bench fuzz fuzz-deps cluster cluster-stop
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -99,8 +100,13 @@ $(BUILD)/report: $(BENCH_OBJ) $(BUILD)/libtocher.a
 $(BUILD)/bench_perf: $(call obj,bench/perf/perf.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
 
+# Number printing (issue 17): tc_fmt_double against the cascade it replaced and printf.
+$(BUILD)/obj/bench/perf/%.o: ALL_CFLAGS += -Ibench/perf
+$(BUILD)/bench_numfmt: $(call obj,bench/perf/numfmt.c bench/perf/numfmt_cascade.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
 bench: deps
-	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf
+	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt
 	bench/perf/run.sh $(BUILD)
 
 # docs/report.md and docs/report/ (about 5 minutes on 2 cores).
@@ -136,10 +142,15 @@ test: deps
 test-unit: $(BUILD)/test_unit
 	$(BUILD)/test_unit
 
+# tc_fmt_double at the issue's full size: 10^7 random doubles read back, 2 * 10^5 (and
+# every edge case) against the shortest-digits reference; about a minute.
+numfmt-full: $(BUILD)/test_unit
+	TC_NUMFMT_FULL=1 $(BUILD)/test_unit numfmt
+
 check: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG WARN_EXTRA=-Wconversion \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
-	  all build/san/test_unit build/san/report build/san/bench_perf
+	  all build/san/test_unit build/san/report build/san/bench_perf build/san/bench_numfmt
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 
 # The libFuzzer target over the JSON API's request -> response functions (tests/fuzz/):

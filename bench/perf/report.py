@@ -386,6 +386,22 @@ def targets(r):
     return table(["target", "measured", "met"], rows)
 
 
+def section_numfmt(outdir):
+    """Number printing (bench/perf/numfmt.c): doubles/s of tc_fmt_double, the cascade it replaced
+    and snprintf("%.17g"); empty when numfmt.json is missing (an older run directory)."""
+    if not os.path.exists(os.path.join(outdir, "numfmt.json")):
+        return ""
+    nf = load(outdir, "numfmt.json")
+    names = [("schubfach", "tc_fmt_double (Schubfach, shortest)"),
+             ("cascade", "before issue 17 (first of %.15g/%.16g/%.17g that round-trips)"),
+             ("printf17", "snprintf(\"%.17g\")")]
+    rows = [[label, si(nf[k + "_random_bits_per_s"], "/s"), si(nf[k + "_ordinates_per_s"], "/s")]
+            for k, label in names]
+    return ("### Numbers out\n\nDoubles printed per second, one thread, %s doubles per set: random bit "
+            "patterns over all finite doubles, and ordinate-like values (arithmetic results in [-10, 10]).\n\n"
+            % si(nf["n"]) + table(["printer", "random doubles", "ordinate-like"], rows))
+
+
 def main():
     if sys.argv[1] == "--cluster":  # only the cluster section, into an existing page
         outdir, dest = sys.argv[2], sys.argv[3]
@@ -450,6 +466,8 @@ A `/v1/render` request as tocherd runs it (`tc_api_render`, 2 render threads): t
 the last column is the `/v1/ordinates` response writer (shortest round-trip numbers).
 
 {section_request(r)}
+
+{section_numfmt(outdir)}
 
 ## Memory
 
