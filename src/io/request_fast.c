@@ -152,12 +152,15 @@ fail:
     return -1;
 }
 
-/* Skips a string at its opening quote; -1 if unterminated. *escaped: it had a backslash. */
+/* Skips a string at its opening quote; -1 if unterminated. *escaped: it had a backslash or
+ * a control byte (a raw NUL would end cJSON's C-string name early), so its name in the tree
+ * may differ from its bytes. */
 static int string(scan *sc, int *escaped) {
     *escaped = 0;
     for (sc->i++; sc->i < sc->len; sc->i++) {
-        char c = sc->s[sc->i];
+        unsigned char c = (unsigned char)sc->s[sc->i];
         if (c == '"') return sc->i++, 0;
+        if (c < 0x20) *escaped = 1;
         if (c == '\\') *escaped = 1, sc->i++;
     }
     return -1;
@@ -253,7 +256,7 @@ void tc__rd_fast_bind(tc__reader *rd, const cJSON *root) {
     for (const cJSON *m = root->child; m; m = m->next)
         for (int k = 0; k < rd->nfast; k++)
             if (m->string && !strcmp(m->string, rd->fast[k].key) && tc__json_is(m, cJSON_Array) && !m->child)
-                rd->fast[k].node = m, last_taken++;
+                if (!rd->fast[k].node) rd->fast[k].node = m, last_taken++;
 }
 
 void tc__rd_fast_free(tc__reader *rd) { drop(rd); }
