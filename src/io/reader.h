@@ -115,15 +115,20 @@ int tc__rd_channel_vectors(tc__reader *rd, const cJSON *v, const tc__jpath *p, i
 
 /* ---- the fast path for big arrays (request_fast.c) ---- */
 
-/* Scans the top level of json for fast arrays into rd->fast. Returns a copy of the body with
- * their text blanked to "[]   ...", for cJSON to parse instead (the caller frees it), or
- * NULL when none was taken (parse json itself). */
-char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len);
+/* Scans the top level of json for fast arrays into rd->fast. Returns the skeleton, the body
+ * with each of their texts replaced by "[]" (*skel_len bytes), for cJSON to parse instead
+ * (the caller frees it), or NULL when none was taken (parse json itself). */
+char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len, size_t *skel_len);
+/* The body's offset of the skeleton's offset pos (pos never falls inside a "[]"). */
+size_t tc__rd_fast_origin(const tc__reader *rd, size_t pos);
+/* f's numbers, handed to the request as one of its arrays (f keeps none), or NULL with
+ * rd->nomem set (counted by tc_request__fail_alloc_after as an allocation). */
+void *tc__rd_fast_take(tc__reader *rd, tc__fast *f);
 /* Binds the scanned arrays to their placeholder members of root. */
 void tc__rd_fast_bind(tc__reader *rd, const cJSON *root);
 void tc__rd_fast_free(tc__reader *rd);
 /* The fast array whose placeholder is v, or NULL when v is read from the tree as usual. */
-const tc__fast *tc__rd_fast(const tc__reader *rd, const cJSON *v);
+tc__fast *tc__rd_fast(tc__reader *rd, const cJSON *v);
 /* The original text of f parsed by cJSON, for a reader that does not take f's shape: the
  * tree (cJSON_Delete it), or NULL with rd->nomem set. */
 cJSON *tc__rd_fast_json(tc__reader *rd, const tc__fast *f);

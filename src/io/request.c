@@ -143,12 +143,14 @@ static cJSON *parse_json(tc__reader *rd, const char *json, size_t len) {
      * allocation inside cJSON is indistinguishable from a syntax error here.
      * (cJSON also records the position in a global it never synchronizes; we
      * read only our own `end`, so concurrent parses do not mix positions.) */
-    char *blanked = tc__rd_fast_scan(rd, json, len); /* the big arrays, read here or not */
-    const char *text = blanked ? blanked : json;
+    size_t tlen = len;
+    char *skel = tc__rd_fast_scan(rd, json, len, &tlen); /* the big arrays, read here or not */
+    const char *text = skel ? skel : json;
     end = text;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
-    size_t pos = (size_t)(end - text); /* same offsets in both texts: errors point into json */
-    free(blanked);
+    cJSON *root = cJSON_ParseWithLengthOpts(text, tlen, &end, 0);
+    size_t pos = (size_t)(end - text);
+    if (skel) pos = tc__rd_fast_origin(rd, pos); /* errors point into json */
+    free(skel);
     if (!root) {
         syntax_error(rd, json, len, pos, "not valid JSON");
         return NULL;

@@ -215,6 +215,9 @@ TEST(request_fast_bad_input_same_findings) {
         "{\"vertices\":[[0,0],[1,0],[0,1]],\"triangles\":[[0,1,2]],\"values\":[1,2,3],\"viewport\":{\"x0\":[1,2]",
         "{\"vertices\":[[0,0],[1,0],[0,1]],\"triangles\":[[0,1,2]],\"values\":[1,2,3],\"format\":\"a\\\"b\"}",
         "[[0,0],[1,0]]",
+        /* a syntax error after arrays with lines in them: its line and column are the body's */
+        "{\"vertices\":[[0,0],\n[1,0],\n  [0,1]],\n\"values\":[1,\r\n2,3],\"triangles\":[[0,1,2]],\n  \"x\": tru}",
+        "{\"vertices\":[[0,0],\n[1,0],\n  [0,1]],\n\"values\":[1,\r\n2,3],\"triangles\":[[0,1,2]]\n\n,",
         "{\"vertices\":[[0,0],[1,0],[0,1]],\"triangles\":[[0,1,2]],\"values\":[1,2,3],\"points\":[[1.00000000000000"
         "0000000000000000000000000000000000000000000000000000000001,2]]}",
     };
