@@ -144,10 +144,11 @@ def section_request(r):
         ph = t["render_raw_phases_ms"]
         ex = t["render_exr_phases_ms"]
         rows.append([m, "%.1f MB" % (t["json_bytes"] / 1e6), si(t["json_bytes"] / t["parse_s"], "B/s"),
+                     si(t["json_bytes"] / t["parse_cjson_s"], "B/s") if t.get("parse_cjson_s") else "–",
                      " / ".join("%.3g" % x for x in ph), sec(t["whole_render_raw_s"]), "%.3g" % ex[4],
                      sec(t["whole_render_exr_s"]), si(t["ordinates_json_bytes"] / t["ordinates_output_s"], "B/s")
                      if t["ordinates_output_s"] else "–"])
-    return table(["mesh", "request", "parse", "raw render phases, ms (parse / validate / build / render / encode)",
+    return table(["mesh", "request", "parse", "parse, all through cJSON (before)", "raw render phases, ms (parse / validate / build / render / encode)",
                   "whole raw request", "EXR encode, ms", "whole EXR request", "ordinates JSON output"], rows)
 
 
@@ -503,8 +504,9 @@ wrk and tocherd share the machine's 2 cores.
 For the largest mesh ({big}, {tb['triangles']} triangles, raw output) the phases of a whole render request
 are parse {tb['render_raw_phases_ms'][0]:.0f} ms, validate and topology {tb['render_raw_phases_ms'][1]:.0f} ms,
 build (ordinates and locator) {tb['render_raw_phases_ms'][2]:.0f} ms, render {tb['render_raw_phases_ms'][3]:.0f} ms
-and encode {tb['render_raw_phases_ms'][4]:.1f} ms. Parsing is cJSON's tree plus strtod for every number and
-the walk that copies it into arrays. See the notes below the tables for the profile of a tile.
+and encode {tb['render_raw_phases_ms'][4]:.1f} ms. Parsing reads the big numeric arrays straight from the
+body (src/io/request_fast.c, numbers by src/io/strtod_fast.c, equal to strtod) and leaves the small rest
+to cJSON; the "parse, all through cJSON" column is the parser without that fast path. See the notes below the tables for the profile of a tile.
 """
     notes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "notes.md")
     if os.path.exists(notes):

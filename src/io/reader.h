@@ -32,6 +32,18 @@ static inline tc__jpath tc__jpath_index(const tc__jpath *up, size_t i) { return 
 
 /* ---- the reader and its findings ---- */
 
+/* A big top-level array read by the fast path (request_fast.c) instead of cJSON. */
+typedef struct {
+    const char *key;    /* the member's name (one of request_fast.c's fast_keys) */
+    const cJSON *node;  /* its placeholder (an empty array) in the tree */
+    size_t start, end;  /* its text: the original body's bytes [start, end) */
+    size_t n;           /* entries */
+    int d1, d2;         /* entry shape: a number (0, 0); [d1] numbers (d1, 0); d1 arrays of d2 (d1, d2) */
+    double *data;       /* n * max(d1, 1) * max(d2, 1) numbers in text order (malloc'd) */
+} tc__fast;
+
+enum { TC__FAST_MAX = 8 };
+
 /* The state of one tc_request_parse: the request being filled and what was found. */
 typedef struct {
     tc_request *r;
@@ -43,6 +55,9 @@ typedef struct {
     int nchan;           /* channels fixed by values[0]; 0 while unknown */
     int nverts_known;    /* vertices was an array: desc.nverts is its length */
     int quads;           /* the mesh is given as "quads": per-corner entries name quads */
+    const char *json;    /* the body as given */
+    tc__fast fast[TC__FAST_MAX]; /* the arrays the fast path read, nfast of them */
+    int nfast;
 } tc__reader;
 
 /* What a finding is, which decides the answer's status. */
@@ -97,6 +112,28 @@ int tc__rd_channels(tc__reader *rd, const cJSON *v, const tc__jpath *p, double *
  * vector (only when C == 1) or an array of C vectors, into out[C][dim]. */
 int tc__rd_channel_vectors(tc__reader *rd, const cJSON *v, const tc__jpath *p, int dim, const char *what,
                            double *out);
+
+/* ---- the fast path for big arrays (request_fast.c) ---- */
+
+/* Scans the top level of json for fast arrays into rd->fast. Returns the skeleton, the body
+ * with each of their texts replaced by "[]" (*skel_len bytes), for cJSON to parse instead
+ * (the caller frees it), or NULL when none was taken (parse json itself). */
+char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len, size_t *skel_len);
+/* The body's offset of the skeleton's offset pos (pos never falls inside a "[]"). */
+size_t tc__rd_fast_origin(const tc__reader *rd, size_t pos);
+/* f's numbers, handed to the request as one of its arrays (f keeps none), or NULL with
+ * rd->nomem set (counted by tc_request__fail_alloc_after as an allocation). */
+void *tc__rd_fast_take(tc__reader *rd, tc__fast *f);
+/* Binds the scanned arrays to their placeholder members of root. */
+void tc__rd_fast_bind(tc__reader *rd, const cJSON *root);
+void tc__rd_fast_free(tc__reader *rd);
+/* The fast array whose placeholder is v, or NULL when v is read from the tree as usual. */
+tc__fast *tc__rd_fast(tc__reader *rd, const cJSON *v);
+/* The original text of f parsed by cJSON, for a reader that does not take f's shape: the
+ * tree (cJSON_Delete it), or NULL with rd->nomem set. */
+cJSON *tc__rd_fast_json(tc__reader *rd, const tc__fast *f);
+/* tc__rd_array's limit for a fast array: 0, or -1 after the same "too many entries". */
+int tc__rd_fast_entries(tc__reader *rd, const tc__fast *f, const tc__jpath *p, size_t max);
 
 /* ---- objects ---- */
 

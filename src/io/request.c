@@ -143,8 +143,14 @@ static cJSON *parse_json(tc__reader *rd, const char *json, size_t len) {
      * allocation inside cJSON is indistinguishable from a syntax error here.
      * (cJSON also records the position in a global it never synchronizes; we
      * read only our own `end`, so concurrent parses do not mix positions.) */
-    cJSON *root = cJSON_ParseWithLengthOpts(json, len, &end, 0);
-    size_t pos = (size_t)(end - json);
+    size_t tlen = len;
+    char *skel = tc__rd_fast_scan(rd, json, len, &tlen); /* the big arrays, read here or not */
+    const char *text = skel ? skel : json;
+    end = text;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, tlen, &end, 0);
+    size_t pos = (size_t)(end - text);
+    if (skel) pos = tc__rd_fast_origin(rd, pos); /* errors point into json */
+    free(skel);
     if (!root) {
         syntax_error(rd, json, len, pos, "not valid JSON");
         return NULL;
@@ -157,6 +163,7 @@ static cJSON *parse_json(tc__reader *rd, const char *json, size_t len) {
         cJSON_Delete(root);
         return NULL;
     }
+    tc__rd_fast_bind(rd, root);
     return root;
 }
 
@@ -167,7 +174,7 @@ int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request *
 
 int tc_request_parse_for(const char *json, size_t len, unsigned expect, int nchan, tc_request **out,
                          tc_diags *diags) {
-    tc__reader rd = {.diags = diags, .expect = expect, .nchan = nchan};
+    tc__reader rd = {.diags = diags, .expect = expect, .nchan = nchan, .json = json};
     *out = NULL;
     tc_request *r = tc__rd_injected_failure() ? NULL : calloc(1, sizeof *r);
     if (!r) {
@@ -184,6 +191,7 @@ int tc_request_parse_for(const char *json, size_t len, unsigned expect, int ncha
         if (!rd.nomem) read_request(&rd, root);
         cJSON_Delete(root); /* the request keeps only its own arrays */
     }
+    tc__rd_fast_free(&rd);
     int status = rd.nomem ? TC_REQ_NOMEM
                  : rd.malformed ? TC_REQ_MALFORMED
                  : rd.invalid ? TC_REQ_INVALID

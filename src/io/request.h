@@ -79,5 +79,10 @@ void tc_request_free(tc_request *r);
  * this thread fail, once, to exercise the out-of-memory paths; 0 disables. It
  * counts the request and its arrays, not cJSON's nodes. */
 void tc_request__fail_alloc_after(long n);
+/* For tests only: on = 0 reads every array of this thread's requests through cJSON, as
+ * before the fast path (io/request_fast.c); 1 (the default) takes the fast path. */
+void tc_request__fast_arrays(int on);
+/* For tests only: how many arrays the last successful parse on this thread read fast. */
+int tc_request__fast_taken(void);
 
 #endif /* TC_IO_REQUEST_H */

@@ -98,8 +98,32 @@ static void typed_vertex_vectors(tc__reader *rd, const cJSON *v, const tc__jpath
 /* ---- fields: geometry ------------------------------------------------------------- */
 
 /* [[x, y], ...] (or a typed [n, 2]) into a new [n][2] array (vertices, points). */
+static int xy_list(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t max, size_t *n_out, double **xy_out);
+
+/* A fast array (request_fast.c) of [x, y] entries: copied as is. */
+static int fast_xy(tc__reader *rd, tc__fast *f, const tc__jpath *p, size_t max, size_t *n_out,
+                   double **xy_out) {
+    if (tc__rd_fast_entries(rd, f, p, max)) return -1;
+    double *xy = tc__rd_fast_take(rd, f);
+    if (!xy) return -1;
+    *n_out = f->n;
+    *xy_out = xy;
+    return 0;
+}
+
 int tc__rd_xy_list(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t max, size_t *n_out,
                    double **xy_out) {
+    tc__fast *f = tc__rd_fast(rd, v);
+    if (f && f->d1 == 2 && f->d2 == 0) return fast_xy(rd, f, p, max, n_out, xy_out);
+    if (!f) return xy_list(rd, v, p, max, n_out, xy_out);
+    cJSON *tree = tc__rd_fast_json(rd, f);
+    if (!tree) return -1;
+    int rc = xy_list(rd, tree, p, max, n_out, xy_out);
+    cJSON_Delete(tree);
+    return rc;
+}
+
+static int xy_list(tc__reader *rd, const cJSON *v, const tc__jpath *p, size_t max, size_t *n_out, double **xy_out) {
     size_t n;
     if (tc__is_typed(v)) return typed_xy(rd, v, p, max, n_out, xy_out);
     if (tc__rd_array(rd, v, p, "an array of points [[x, y], ...]", max, &n)) return -1;
@@ -126,7 +150,48 @@ void tc__parse_vertices(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
 
 /* [[i, j, ...], ...], k indices each (what: "[i, j, k]"), at most max of them, into a
  * new [n][k] array; returns n, or -1 after reporting. */
+static int64_t elements_json(tc__reader *rd, const cJSON *v, const tc__jpath *p, int k, size_t max,
+                             const char *array_what, const char *what, int32_t **out);
+
+/* A fast array of k-index entries, all integers within int32 (as tc__rd_int requires):
+ * converted; n, or -1. Returns -2, before any finding or allocation, when some entry is
+ * not such an index: the caller then reads the text through cJSON for the messages. */
+static int64_t fast_elements(tc__reader *rd, tc__fast *f, const tc__jpath *p, int k, size_t max,
+                             int32_t **out) {
+    size_t m = f->n * (size_t)k;
+    for (size_t j = 0; j < m; j++) {
+        double d = f->data[j];
+        if (d != floor(d) || d < INT32_MIN || d > INT32_MAX) return -2;
+    }
+    if (tc__rd_fast_entries(rd, f, p, max)) return -1;
+    char *buf = tc__rd_fast_take(rd, f);
+    if (!buf) return -1;
+    /* Narrowed in place: index j's 4 bytes go where double j/2 was, already read (j/2 <= j);
+     * memcpy, as the bytes change type. */
+    for (size_t j = 0; j < m; j++) {
+        double d;
+        memcpy(&d, buf + j * sizeof d, sizeof d);
+        int32_t v = (int32_t)d;
+        memcpy(buf + j * sizeof v, &v, sizeof v);
+    }
+    *out = (int32_t *)(void *)buf;
+    return (int64_t)f->n;
+}
+
 static int64_t read_elements(tc__reader *rd, const cJSON *v, const tc__jpath *p, int k, size_t max,
+                             const char *array_what, const char *what, int32_t **out) {
+    tc__fast *f = tc__rd_fast(rd, v);
+    int64_t n = f && f->d1 == k && f->d2 == 0 ? fast_elements(rd, f, p, k, max, out) : -2;
+    if (n != -2) return n;
+    if (!f) return elements_json(rd, v, p, k, max, array_what, what, out);
+    cJSON *tree = tc__rd_fast_json(rd, f);
+    if (!tree) return -1;
+    n = elements_json(rd, tree, p, k, max, array_what, what, out);
+    cJSON_Delete(tree);
+    return n;
+}
+
+static int64_t elements_json(tc__reader *rd, const cJSON *v, const tc__jpath *p, int k, size_t max,
                              const char *array_what, const char *what, int32_t **out) {
     size_t n, i = 0;
     if (tc__is_typed(v)) return typed_elements(rd, v, p, k, max, out);
@@ -190,7 +255,34 @@ static int channels_from_first(tc__reader *rd, const cJSON *first, const tc__jpa
     return 0;
 }
 
+static void values_json(tc__reader *rd, const cJSON *v, const tc__jpath *p);
+
+/* A fast array of values: plain numbers (one channel) or [z1..zC] entries, C within
+ * 1..TC_MAX_CHANNELS (tc__parse_values' checks, in its order); 0, or -1 for another shape. */
+static int fast_values(tc__reader *rd, tc__fast *f, const tc__jpath *p) {
+    if (f->d2 != 0 || f->d1 > TC_MAX_CHANNELS) return -1;
+    if (tc__rd_fast_entries(rd, f, p, INT32_MAX)) return 0;
+    rd->nchan = f->d1 ? f->d1 : 1;
+    if (!f->d1) rd->r->values_plain = 1;
+    tc__rd_per_vertex(rd, p, f->n);
+    double *z = tc__rd_fast_take(rd, f);
+    if (!z) return 0;
+    rd->r->desc.nchan = rd->nchan;
+    rd->r->desc.values = z;
+    return 0;
+}
+
 void tc__parse_values(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
+    tc__fast *f = tc__rd_fast(rd, v);
+    if (!f) return values_json(rd, v, p);
+    if (!fast_values(rd, f, p)) return;
+    cJSON *tree = tc__rd_fast_json(rd, f);
+    if (!tree) return;
+    values_json(rd, tree, p);
+    cJSON_Delete(tree);
+}
+
+static void values_json(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
     size_t n, i = 0;
     if (tc__is_typed(v)) {
         typed_values(rd, v, p);
@@ -331,11 +423,41 @@ void tc__parse_midpoints(tc__reader *rd, const cJSON *v, const tc__jpath *p) {
 
 /* Per-vertex vectors (gradients, normals), null where a vertex has none: data
  * [n][C][dim], mask [n] (left NULL when every vertex has one). */
+static void vertex_vectors_json(tc__reader *rd, const cJSON *v, const tc__jpath *p, int dim,
+                                const char *what, const double **data, const uint8_t **mask);
+
+/* A fast array of per-vertex vectors (no nulls: the scan refuses them): one [dim] vector per
+ * entry when there is one channel, or [C][dim]; 0, or -1 for another shape. */
+static int fast_vertex_vectors(tc__reader *rd, tc__fast *f, const tc__jpath *p, int dim,
+                               const double **data, const uint8_t **mask) {
+    int C = rd->nchan;
+    if (!((C == 1 && f->d1 == dim && f->d2 == 0) || (f->d1 == C && f->d2 == dim))) return -1;
+    if (tc__rd_fast_entries(rd, f, p, INT32_MAX)) return 0;
+    tc__rd_per_vertex(rd, p, f->n);
+    double *g = tc__rd_fast_take(rd, f);
+    uint8_t *m = g ? tc__rd_alloc(rd, f->n, 1) : NULL; /* as the JSON path, though every vertex has one */
+    if (!g || !m) return 0;
+    *data = g;
+    *mask = NULL;
+    return 0;
+}
+
 static void read_vertex_vectors(tc__reader *rd, const cJSON *v, const tc__jpath *p, int dim,
+                                const char *what, const double **data, const uint8_t **mask) {
+    if (!rd->nchan) return;
+    tc__fast *f = tc__rd_fast(rd, v);
+    if (!f) return vertex_vectors_json(rd, v, p, dim, what, data, mask);
+    if (!fast_vertex_vectors(rd, f, p, dim, data, mask)) return;
+    cJSON *tree = tc__rd_fast_json(rd, f);
+    if (!tree) return;
+    vertex_vectors_json(rd, tree, p, dim, what, data, mask);
+    cJSON_Delete(tree);
+}
+
+static void vertex_vectors_json(tc__reader *rd, const cJSON *v, const tc__jpath *p, int dim,
                                 const char *what, const double **data, const uint8_t **mask) {
     char shape[96];
     size_t n, i = 0;
-    if (!rd->nchan) return;
     if (tc__is_typed(v)) {
         typed_vertex_vectors(rd, v, p, dim, data);
         return;
