@@ -83,16 +83,15 @@ static int link_edge(struct tc_mesh *m, int32_t t, int k, tc_diags *dg) {
                             (int)tc__elem_index(m, others[0]), (int)tc__elem_index(m, others[1]),
                             nothers > 2 ? ", ..." : "");
     }
-    /* Both sides measured from the edge's lower-numbered vertex, whichever
-     * triangle asks: from the other end a third vertex within rounding of the
-     * edge's line (a subnormal offset) can come out exactly on it, and then the
-     * two triangles would disagree on which one reports the overlap (it was
-     * refused with no message). */
-    int32_t lo = a < b ? a : b, hi = a < b ? b : a;
-    if ((side_of_third(m, t, k, lo, hi) > 0) == (side_of_third(m, t2, k2, lo, hi) > 0)) {
-        if (t2 < t) return TC_EINVAL; /* reported from the lower triangle */
-        tc__elem_path(m, t2, path, sizeof path);
-        tc__elem_path(m, t, other, sizeof other);
+    if ((side_of_third(m, t, k, a, b) > 0) == (side_of_third(m, t2, k2, a, b) > 0)) {
+        /* Reported from the lower triangle, if it saw the overlap too: seen from
+         * the edge's other end, a third vertex within rounding of the edge's line
+         * (a subnormal offset) can come out on the other side, and then the lower
+         * one found nothing; the refusal must still say why. */
+        int32_t a2 = m->tri[3 * (size_t)t2 + (size_t)k2], b2 = m->tri[3 * (size_t)t2 + (size_t)(k2 + 1) % 3];
+        if (t2 < t && (side_of_third(m, t2, k2, a2, b2) > 0) == (side_of_third(m, t, k, a2, b2) > 0)) return TC_EINVAL;
+        tc__elem_path(m, t2 < t ? t : t2, path, sizeof path);
+        tc__elem_path(m, t2 < t ? t2 : t, other, sizeof other);
         return tc_diags_add(dg, TC_SEV_ERROR, path,
                             "overlaps %s: both lie on the same side of their shared edge [%d, %d]", other, (int)a,
                             (int)b);
