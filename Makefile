@@ -70,7 +70,10 @@ $(BUILD)/obj/%.o: %.c
 
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
-$(BUILD)/obj/src/core/ct_span.o: ALL_CFLAGS += -Wno-psabi
+# GCC notes that 32-byte vectors passed by value change the ABI without AVX: they pass only
+# between always-inline functions of one build, never across a call (ct_span.c, ct_fast.h).
+$(BUILD)/obj/src/core/ct_span.o $(BUILD)/obj/src/core/ct_fast.o $(BUILD)/obj/src/core/raster.o \
+  $(BUILD)/obj/tests/unit/test_raster.o: ALL_CFLAGS += -Wno-psabi
 # The viewer page is assembled into viewer.o (.incbin), which -MMD does not see.
 $(BUILD)/obj/src/server/viewer.o: src/server/viewer.html
 
@@ -105,8 +108,13 @@ $(BUILD)/obj/bench/perf/%.o: ALL_CFLAGS += -Ibench/perf
 $(BUILD)/bench_numfmt: $(call obj,bench/perf/numfmt.c bench/perf/numfmt_cascade.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
 
+# Tile throughput per thread and thread scaling (issue 17 §3): no daemon, no image plugin, so the
+# binary can be carried to a machine with more cores (`device`; docs/performance.md says which).
+$(BUILD)/bench_scaling: $(call obj,bench/perf/scaling.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
 bench: deps
-	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt
+	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt $(BUILD)/bench_scaling
 	bench/perf/run.sh $(BUILD)
 
 # docs/report.md and docs/report/ (about 5 minutes on 2 cores).

@@ -9,6 +9,7 @@
 
 #include "core/alloc.h"
 #include "core/ct.h"
+#include "core/ct_fast.h"
 #include "core/geom.h"
 #include "core/locate.h"
 #include "core/mesh.h"
@@ -64,61 +65,6 @@ static int claim(const band *bd, const struct tc__slot *s, int32_t i, int32_t j,
     return hit;
 }
 
-/* Where row y crosses the triangle, approximately: [*xl, *xr], or 0 if it
- * misses it. Only a starting guess; claim() decides every pixel it touches. */
-static int row_hull(const struct tc__slot *s, double y, double *xl, double *xr) {
-    int any = 0;
-    *xl = INFINITY, *xr = -INFINITY;
-    for (int k = 0; k < 3; k++) {
-        int n = k == 2 ? 0 : k + 1;
-        double py = s->y[k], qy = s->y[n];
-        if ((py - y) * (qy - y) > 0) continue;
-        double x = py == qy ? s->x[k] : s->x[k] + (y - py) * (s->x[n] - s->x[k]) / (qy - py);
-        if (py == qy) *xl = fmin(*xl, s->x[n]), *xr = fmax(*xr, s->x[n]);
-        *xl = fmin(*xl, x), *xr = fmax(*xr, x);
-        any = 1;
-    }
-    return any;
-}
-
-/* The pixels of row j (within [i0, i1]) the triangle contains, each owned
- * exactly as tc_locate would own its centre. Pixel centres along a row are
- * non-decreasing in x (each step of tc_viewport_pixel_center rounds
- * monotonically) and the triangle's closed set and its strict-ownership set are
- * both convex, so the contained pixels form one run: exact tests at its two
- * ends, outward until the first pixel out, and — when both ends are strictly
- * owned — everything between is strictly owned without a test. */
-static void cover_row(const band *bd, const struct tc__slot *s, int32_t j, int32_t i0, int32_t i1) {
-    const tc_viewport *vp = bd->jb->vp;
-    double x, y, xl, xr, step = (vp->x1 - vp->x0) / vp->width;
-    tc_viewport_pixel_center(vp, 0, j, &x, &y);
-    if (!row_hull(s, y, &xl, &xr)) return;
-    double fa = ceil((xl - vp->x0) / step - 0.5), fb = floor((xr - vp->x0) / step - 0.5);
-    int32_t a = fa < i0 ? i0 : fa > i1 ? i1 : (int32_t)fa, b = fb > i1 ? i1 : fb < i0 ? i0 : (int32_t)fb;
-    if (b < a) { /* a thin crossing between two centres: test the few around it */
-        int32_t lo = b - 1 < i0 ? i0 : b - 1, hi = a + 1 > i1 ? i1 : a + 1;
-        for (int32_t i = lo; i <= hi; i++) claim(bd, s, i, j, y);
-        return;
-    }
-    int ha = TC_SLOT_OUT, hb = TC_SLOT_OUT;
-    int32_t a0 = a, b0 = b;
-    while (a <= b && (ha = claim(bd, s, a, j, y)) == TC_SLOT_OUT) a++;
-    if (a > b) { /* nothing inside the guess: the run, if any, lies just beside it */
-        for (int32_t i = a0 - 1; i >= i0 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i--) {}
-        for (int32_t i = b0 + 1; i <= i1 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i++) {}
-        return;
-    }
-    while (b > a && (hb = claim(bd, s, b, j, y)) == TC_SLOT_OUT) b--;
-    if (b == a) hb = ha;
-    for (int32_t i = a - 1; i >= i0 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i--) {}
-    for (int32_t i = b + 1; i <= i1 && claim(bd, s, i, j, y) != TC_SLOT_OUT; i++) {}
-    int32_t *row = bd->jb->owner + (size_t)(j - bd->jb->row0) * (size_t)vp->width;
-    for (int32_t i = a + 1; i < b; i++) {
-        if (ha == TC_SLOT_OWN && hb == TC_SLOT_OWN) row[i] = s->t;
-        else claim(bd, s, i, j, y);
-    }
-}
-
 /* A double as the tile's float: rounded once, and beyond the float range the
  * largest float of its sign, never an infinity (the doubles are finite: the
  * ordinates are bounded, recon.c). */
@@ -127,39 +73,89 @@ static inline float tile_float(double v) {
     return isinf(f) ? copysignf(FLT_MAX, f) : f;
 }
 
-static void cover(void *ctx, const struct tc__slot *s) {
-    const band *bd = ctx;
-    const tc_viewport *vp = bd->jb->vp;
-    double xmin = fmin(s->x[0], fmin(s->x[1], s->x[2])), xmax = fmax(s->x[0], fmax(s->x[1], s->x[2]));
-    double ymin = fmin(s->y[0], fmin(s->y[1], s->y[2])), ymax = fmax(s->y[0], fmax(s->y[1], s->y[2]));
-    int32_t i0, i1, j0, j1;
-    pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, vp->width, &i0, &i1);
-    /* Rows count downwards from y1. */
-    pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, vp->height, &j0, &j1);
-    if (j0 < bd->j0) j0 = bd->j0;
-    if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
-    if (i0 > i1) return;
-    for (int32_t j = j0; j <= j1; j++) cover_row(bd, s, j, i0, i1);
+/* A triangle as one band meets it: its slot (the exact ownership tests), its
+ * evaluation frame, and for the cubic of a well-shaped triangle its fast form. */
+typedef struct {
+    const struct tc__slot *s;
+    tc__eval_frame f;
+    double slope[3]; /* dx/dy of edge k -> k+1 (row_hull's guess) */
+    int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff is set */
+    tc__ct_fast ff;
+} tri;
+
+/* Longest edge squared over twice the area (tc__face_aspect's measure); NaN or
+ * infinite for a degenerate frame, which then fails every <= test. */
+static double frame_aspect(const tc__eval_frame *f) {
+    double longest = 0;
+    for (int q = 0; q < 3; q++) longest = fmax(longest, f->e[q][0] * f->e[q][0] + f->e[q][1] * f->e[q][1]);
+    return longest / fabs(tc__cross(f->e[0], f->e[1]));
 }
 
-/* The owner of pixel p, turning a closed-only candidate (-2 - t) into t. */
-static int32_t settle(int32_t *owner, size_t p) {
-    int32_t t = owner[p];
-    if (t <= -2) t = owner[p] = -2 - t;
-    return t;
+/* Where row y crosses the triangle, approximately: [*xl, *xr], or 0 if it
+ * misses it. Only a starting guess (slopes rounded once per triangle);
+ * classify() decides every pixel it touches. */
+static inline void widen(double x, double *xl, double *xr) {
+    *xl = x < *xl ? x : *xl; /* fmin/fmax are calls at -O2 */
+    *xr = x > *xr ? x : *xr;
 }
 
-/* Pixels [i, i + n) of a row, owned by t whose frame is f: each pixel as
- * tc_eval_triangle evaluates it (tc__frame, tc__frame_at, the method's eval).
- * The cubic methods go through tc__ct_span, which does that same arithmetic
- * four pixels at a time. */
-static void shade_run(const job *jb, const tc__eval_frame *f, int32_t t, const double *xs, double y, int32_t n,
-                      float *out) {
+static inline int row_hull(const tri *tr, double y, double *xl, double *xr) {
+    const struct tc__slot *s = tr->s;
+    int any = 0;
+    *xl = INFINITY, *xr = -INFINITY;
+    for (int k = 0; k < 3; k++) {
+        int n = k == 2 ? 0 : k + 1;
+        double py = s->y[k], qy = s->y[n];
+        if ((py - y) * (qy - y) > 0) continue;
+        double x = py == qy ? s->x[k] : s->x[k] + (y - py) * tr->slope[k];
+        if (py == qy) widen(s->x[n], xl, xr); /* the row runs along the edge */
+        widen(x, xl, xr);
+        any = 1;
+    }
+    return any;
+}
+
+/* The same bound orient_sign (locate.c) certifies a floating-point sign with. */
+#define ORIENT_ERRBOUND ((3.0 + 16.0 * 0x1p-53) * 0x1p-53)
+
+/* What the strict rule says of one pixel centre: classify_lanes' test for one
+ * lane, claim() where it cannot certify. Claims what it finds owned. */
+static int classify(const band *bd, const struct tc__slot *s, const double l[3], int32_t i, int32_t j, double y) {
+    double x = bd->jb->xs[i];
+    int certain_in = 1;
+    for (int k = 0; k < 3; k++) {
+        int n = k == 2 ? 0 : k + 1;
+        double r = (s->y[n] - s->y[k]) * (x - s->x[k]), det = l[k] - r;
+        if (!(fabs(det) >= ORIENT_ERRBOUND * (fabs(l[k]) + fabs(r)))) certain_in = 0;
+        else if (det < 0) return TC_SLOT_OUT;
+        else if (!(det > 0)) certain_in = 0;
+    }
+    if (!certain_in) return claim(bd, s, i, j, y);
+    bd->jb->owner[tc__ix(j - bd->jb->row0, bd->jb->vp->width, i)] = s->t;
+    return TC_SLOT_OWN;
+}
+
+/* Pixels [i, i + n) of a row, owned by t whose frame tr holds: each pixel as
+ * tc_eval_triangle evaluates it (tc__frame_at and the method's eval;
+ * tc__ct_span for the cubic, which does that same arithmetic four pixels at a
+ * time), or the fast cubic (ct_fast.h) where tr->fast. Then as tile_float and
+ * tc__floored make every value of a tile. */
+static void shade_run(const job *jb, const tri *tr, int32_t t, const double *xs, double y, int32_t n, float *out) {
     const tc_recon *r = jb->r;
     int nc = r->m->nc;
     const double *coef = r->coef + (size_t)t * (size_t)nc * (size_t)r->ncoef;
     if (r->eval == tc__ct_eval) {
-        tc__ct_span(f, coef, nc, xs, y, n, out, NULL);
+        if (tr->fast) {
+            double K[3];
+            tc__ct_fast_row(&tr->ff, y, K);
+            for (int32_t i = 0; i < n; i++) {
+                tc__v4d v[TC_MAX_CHANNELS];
+                tc__ct_fast_lanes(&tr->ff, K, tc__splat(xs[i]), v);
+                for (int ch = 0; ch < nc; ch++) out[tc__ix(i, nc, ch)] = (float)v[ch][0];
+            }
+        } else {
+            tc__ct_span(&tr->f, coef, nc, xs, y, n, out, NULL);
+        }
         for (size_t i = 0; i < (size_t)n * (size_t)nc; i++) /* as tile_float */
             if (isinf(out[i])) out[i] = copysignf(FLT_MAX, out[i]);
         for (int ch = 0; ch < nc; ch++) /* as tc__floored: (float) keeps the sign */
@@ -170,37 +166,232 @@ static void shade_run(const job *jb, const tc__eval_frame *f, int32_t t, const d
     double v[TC_MAX_CHANNELS];
     for (int32_t i = 0; i < n; i++) {
         tc__eval_point at;
-        tc__frame_at(f, xs[i], y, &at);
+        tc__frame_at(&tr->f, xs[i], y, &at);
         for (int ch = 0; ch < nc; ch++) r->eval(coef + (size_t)ch * (size_t)r->ncoef, &at, &v[ch], NULL);
         for (int ch = 0; ch < nc; ch++) out[tc__ix(i, nc, ch)] = tile_float(tc__floored(r, ch, v[ch]));
     }
 }
 
-/* Each row split into runs of one owner; the frame set up once per triangle. */
-static void shade_band(const band *bd) {
+/* The pixels of row j in [lo, hi] that tr strictly owns (one run, or none) shaded. */
+static void shade_pixels(const band *bd, const tri *tr, int32_t j, double y, int32_t lo, int32_t hi) {
+    const job *jb = bd->jb;
+    int32_t *row = jb->owner + (size_t)(j - jb->row0) * (size_t)jb->vp->width, t = tr->s->t;
+    while (lo <= hi && row[lo] != t) lo++;
+    while (hi >= lo && row[hi] != t) hi--;
+    if (lo <= hi)
+        shade_run(jb, tr, t, jb->xs + lo, y, hi - lo + 1,
+                  jb->values + ((size_t)(j - jb->row0) * (size_t)jb->vp->width + (size_t)lo) * (size_t)jb->r->m->nc);
+}
+
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4si __attribute__((vector_size(16)));
+
+/* m ? a : b, lane by lane, for floats. */
+TC__FAST_INLINE v4f fsel(v4si m, v4f a, v4f b) {
+    v4si ia, ib, r;
+    memcpy(&ia, &a, sizeof ia);
+    memcpy(&ib, &b, sizeof ib);
+    r = (ia & m) | (ib & ~m);
+    v4f out;
+    memcpy(&out, &r, sizeof out);
+    return out;
+}
+
+TC__FAST_INLINE tc__v4d vabs(tc__v4d a) {
+    return tc__sel((tc__v4i){INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX}, a, tc__splat(0));
+}
+
+/* Four fast values as the tile stores them (tile_float, tc__floored), lanes
+ * in `mask` only; out is the first lane's pixel, full says all four lanes are
+ * pixels of the row (the others, read and written back unchanged, belong to
+ * this band's thread alone). */
+TC__FAST_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], tc__v4d x, unsigned mask,
+                                 int full, float *out) {
+    int nc = jb->r->m->nc;
+    tc__v4d v[TC_MAX_CHANNELS];
+    tc__ct_fast_lanes(&tr->ff, K, x, v);
+    for (int ch = 0; ch < nc; ch++) {
+        v4f f = __builtin_convertvector(v[ch], v4f);
+        v4f big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
+        f = fsel(f < -big, -big, fsel(f > big, big, f)); /* as tile_float */
+        if (jb->r->floor0[ch]) f = fsel(f < (v4f){0, 0, 0, 0}, (v4f){0, 0, 0, 0}, f); /* as tc__floored */
+        if (nc == 1 && full) { /* one channel, four pixels of the row: blend in place */
+            static const v4si lane[16] = {{0, 0, 0, 0},   {-1, 0, 0, 0},   {0, -1, 0, 0},   {-1, -1, 0, 0},
+                                          {0, 0, -1, 0},  {-1, 0, -1, 0},  {0, -1, -1, 0},  {-1, -1, -1, 0},
+                                          {0, 0, 0, -1},  {-1, 0, 0, -1},  {0, -1, 0, -1},  {-1, -1, 0, -1},
+                                          {0, 0, -1, -1}, {-1, 0, -1, -1}, {0, -1, -1, -1}, {-1, -1, -1, -1}};
+            v4f old;
+            memcpy(&old, out, sizeof old);
+            f = fsel(lane[mask], f, old);
+            memcpy(out, &f, sizeof f);
+            continue;
+        }
+        for (int l = 0; l < 4; l++)
+            if (mask >> l & 1u) out[tc__ix(l, nc, ch)] = f[l];
+    }
+}
+
+/* Pixels [lo, hi] of row j, four at a time: each edge's orientation computed
+ * as orient_sign computes it (from corner k: l - r, l = (x[k+1] - x[k])
+ * (y - y[k]), r = (y[k+1] - y[k]) (x - x[k])) and its sign certified by the
+ * same bound, so a lane certified inside (all three positive) or outside (one
+ * negative) gets the exact answer without the exact test; the rest go to
+ * claim(). Lanes inside are claimed and, for a fast triangle, shaded at once.
+ * *first_out / *last_out: whether pixel lo / hi is out. */
+TC__FAST_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3], int32_t lo,
+                               int32_t hi, int *first_out, int *last_out) {
+    const job *jb = bd->jb;
+    const struct tc__slot *s = tr->s;
+    int nc = jb->r->m->nc;
+    size_t row = (size_t)(j - jb->row0) * (size_t)jb->vp->width;
+    int32_t *orow = jb->owner + row;
+    float *vrow = jb->values + row * (size_t)nc;
+    double K[3], al[3], dy[3];
+    if (tr->fast) tc__ct_fast_row(&tr->ff, y, K);
+    for (int e = 0; e < 3; e++) al[e] = fabs(l[e]), dy[e] = s->y[e == 2 ? 0 : e + 1] - s->y[e];
+    for (int32_t i = lo; i <= hi; i += 4) {
+        int32_t k = hi - i + 1 < 4 ? hi - i + 1 : 4;
+        tc__v4d x = tc__splat(jb->xs[i]); /* tail lanes repeat a real pixel */
+        if (k == 4) memcpy(&x, jb->xs + i, sizeof x);
+        else
+            for (int q = 1; q < k; q++) x[q] = jb->xs[i + q];
+        tc__v4i in = {-1, -1, -1, -1}, out = {0, 0, 0, 0};
+        for (int e = 0; e < 3; e++) {
+            tc__v4d r = tc__splat(dy[e]) * (x - tc__splat(s->x[e])), det = tc__splat(l[e]) - r;
+            tc__v4i cert = vabs(det) >= tc__splat(ORIENT_ERRBOUND) * (tc__splat(al[e]) + vabs(r));
+            in &= cert & (det > tc__splat(0));
+            out |= cert & (det < tc__splat(0));
+        }
+        unsigned valid = (1u << k) - 1, inb = tc__mask4(in) & valid, outb = tc__mask4(out) & valid;
+        unsigned unsure = valid & ~(inb | outb);
+        for (int q = 0; unsure; q++, unsure >>= 1) { /* on an edge, or too close to say */
+            if (!(unsure & 1u)) continue;
+            int h = claim(bd, s, i + q, j, y);
+            if (h == TC_SLOT_OWN) inb |= 1u << q;
+            else if (h == TC_SLOT_OUT) outb |= 1u << q;
+        }
+        if (inb == 15) {
+            v4si t = {s->t, s->t, s->t, s->t};
+            memcpy(orow + i, &t, sizeof t);
+        } else {
+            for (int q = 0; q < k; q++)
+                if (inb >> q & 1u) orow[i + q] = s->t;
+        }
+        if (inb && tr->fast) store_lanes(jb, tr, K, x, inb, k == 4, vrow + (size_t)i * (size_t)nc);
+        if (i == lo) *first_out = outb & 1u;
+        if (i + k - 1 == hi) *last_out = outb >> (k - 1) & 1u;
+    }
+}
+
+/* Row j of triangle tr within columns [i0, i1]: the pixels it contains, each
+ * owned exactly as tc_locate would own its centre, and those it strictly owns
+ * shaded. The guess from row_hull, widened by a pixel, is classified lane by
+ * lane; pixel centres along a row are non-decreasing in x and the triangle's
+ * closed set is convex, so its pixels form one run, and where an end of the
+ * guess is still in, the run goes on outward until a pixel is out. Closed-only
+ * candidates are left to settle_band. */
+TC__FAST_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int32_t i0, int32_t i1) {
+    const job *jb = bd->jb;
+    const tc_viewport *vp = jb->vp;
+    const struct tc__slot *s = tr->s;
+    double x, y, xl, xr, step = (vp->x1 - vp->x0) / vp->width, l[3];
+    tc_viewport_pixel_center(vp, 0, j, &x, &y);
+    if (!row_hull(tr, y, &xl, &xr)) return;
+    for (int k = 0; k < 3; k++) {
+        int n = k == 2 ? 0 : k + 1;
+        l[k] = (s->x[n] - s->x[k]) * (y - s->y[k]);
+    }
+    double fa = floor((xl - vp->x0) / step - 0.5), fb = ceil((xr - vp->x0) / step - 0.5);
+    int32_t lo = fa < i0 ? i0 : fa > i1 ? i1 : (int32_t)fa, hi = fb > i1 ? i1 : fb < i0 ? i0 : (int32_t)fb;
+    int first_out = 1, last_out = 1;
+    row_lanes(bd, tr, j, y, l, lo, hi, &first_out, &last_out);
+    int32_t a = lo, b = hi;
+    if (!first_out)
+        while (a > i0 && classify(bd, s, l, a - 1, j, y) != TC_SLOT_OUT) a--;
+    if (!last_out)
+        while (b < i1 && classify(bd, s, l, b + 1, j, y) != TC_SLOT_OUT) b++;
+    if (!tr->fast) shade_pixels(bd, tr, j, y, a, b);
+    else {
+        if (a < lo) shade_pixels(bd, tr, j, y, a, lo - 1);
+        if (b > hi) shade_pixels(bd, tr, j, y, hi + 1, b);
+    }
+}
+
+static void cover_rows_generic(const band *bd, const tri *tr, int32_t j0, int32_t j1, int32_t i0, int32_t i1) {
+    for (int32_t j = j0; j <= j1; j++) cover_row_body(bd, tr, j, i0, i1);
+}
+
+__attribute__((target("avx2"))) static void cover_rows_avx2(const band *bd, const tri *tr, int32_t j0, int32_t j1,
+                                                             int32_t i0, int32_t i1) {
+    for (int32_t j = j0; j <= j1; j++) cover_row_body(bd, tr, j, i0, i1);
+}
+
+static int force_generic;
+
+void tc__raster_force_generic(int on) {
+    force_generic = on;
+}
+
+static void cover(void *ctx, const struct tc__slot *s) {
+    const band *bd = ctx;
+    const job *jb = bd->jb;
+    const tc_viewport *vp = jb->vp;
+    double xmin = fmin(s->x[0], fmin(s->x[1], s->x[2])), xmax = fmax(s->x[0], fmax(s->x[1], s->x[2]));
+    double ymin = fmin(s->y[0], fmin(s->y[1], s->y[2])), ymax = fmax(s->y[0], fmax(s->y[1], s->y[2]));
+    int32_t i0, i1, j0, j1;
+    pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, vp->width, &i0, &i1);
+    /* Rows count downwards from y1. */
+    pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, vp->height, &j0, &j1);
+    if (j0 < bd->j0) j0 = bd->j0;
+    if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
+    if (i0 > i1 || j0 > j1) return;
+    tri tr;
+    tr.s = s;
+    for (int k = 0; k < 3; k++) {
+        int n = k == 2 ? 0 : k + 1;
+        tr.slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
+    }
+    tc__frame(jb->r->m, s->t, &tr.f);
+    tr.fast = jb->r->eval == tc__ct_eval && frame_aspect(&tr.f) <= TC__CT_FAST_ASPECT;
+    if (tr.fast)
+        tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->r->m->nc * (size_t)jb->r->ncoef,
+                            jb->r->m->nc, &tr.ff);
+    if (!force_generic && __builtin_cpu_supports("avx2")) cover_rows_avx2(bd, &tr, j0, j1, i0, i1);
+    else cover_rows_generic(bd, &tr, j0, j1, i0, i1);
+}
+
+/* After every triangle of the band: the pixels no triangle owns strictly get the
+ * background, and closed-only candidates (points on the outer boundary: the
+ * lowest index wins, as in tc_locate) become owned and are shaded exactly. */
+static void settle_band(const band *bd) {
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
     int nc = jb->r->m->nc;
-    tc__eval_frame f;
-    memset(&f, 0, sizeof f); /* set before use (cur == -1); this quiets -Wmaybe-uninitialized */
-    int32_t cur = -1;
     for (int32_t j = bd->j0; j < bd->j1; j++) {
         double x, y;
         tc_viewport_pixel_center(vp, 0, j, &x, &y);
         size_t row = (size_t)(j - jb->row0) * (size_t)vp->width;
-        for (int32_t i = 0; i < vp->width;) {
-            int32_t t = settle(jb->owner, row + (size_t)i), e = i + 1;
-            while (e < vp->width && settle(jb->owner, row + (size_t)e) == t) e++;
-            float *out = jb->values + (row + (size_t)i) * (size_t)nc;
-            if (t < 0) {
-                for (int32_t p = 0; p < e - i; p++)
-                    for (int ch = 0; ch < nc; ch++)
-                        out[tc__ix(p, nc, ch)] = jb->ropt->background ? tile_float(jb->ropt->background[ch]) : 0.0f;
-            } else {
-                if (t != cur) tc__frame(jb->r->m, t, &f), cur = t;
-                shade_run(jb, &f, t, jb->xs + i, y, e - i, out);
+        for (int32_t i = 0; i < vp->width; i++) {
+            int32_t t = jb->owner[row + (size_t)i];
+            if (t >= 0 && i + 8 <= vp->width) { /* skip owned pixels eight at a time */
+                int32_t any = 0;
+                for (int q = 0; q < 8; q++) any |= jb->owner[row + (size_t)i + (size_t)q];
+                if (any >= 0) {
+                    i += 7;
+                    continue;
+                }
             }
-            i = e;
+            if (t >= 0) continue;
+            float *out = jb->values + (row + (size_t)i) * (size_t)nc;
+            if (t == -1) {
+                for (int ch = 0; ch < nc; ch++)
+                    out[ch] = jb->ropt->background ? tile_float(jb->ropt->background[ch]) : 0.0f;
+                continue;
+            }
+            tri tr = {.s = NULL, .fast = 0};
+            t = jb->owner[row + (size_t)i] = -2 - t;
+            tc__frame(jb->r->m, t, &tr.f);
+            shade_run(jb, &tr, t, jb->xs + i, y, 1, out);
         }
     }
 }
@@ -209,15 +400,14 @@ static void render_band(job *jb, int32_t b) {
     const tc_viewport *vp = jb->vp;
     band bd = {jb, jb->row0 + b * BAND_ROWS, jb->row0 + (b + 1) * BAND_ROWS};
     if (bd.j1 > jb->row0 + jb->rows) bd.j1 = jb->row0 + jb->rows;
-    for (size_t p = (size_t)(bd.j0 - jb->row0) * (size_t)vp->width; p < (size_t)(bd.j1 - jb->row0) * (size_t)vp->width;
-         p++)
-        jb->owner[p] = -1;
+    size_t p0 = (size_t)(bd.j0 - jb->row0) * (size_t)vp->width, p1 = (size_t)(bd.j1 - jb->row0) * (size_t)vp->width;
+    memset(jb->owner + p0, 0xff, (p1 - p0) * sizeof *jb->owner); /* every owner -1: all bytes 0xff */
     double xa, ya, xb, yb, lo[2], hi[2];
     tc_viewport_pixel_center(vp, 0, bd.j1 - 1, &xa, &ya);
     tc_viewport_pixel_center(vp, vp->width - 1, bd.j0, &xb, &yb);
     lo[0] = fmin(xa, xb), hi[0] = fmax(xa, xb), lo[1] = fmin(ya, yb), hi[1] = fmax(ya, yb);
     tc__locator_query_box(jb->L, lo, hi, cover, &bd);
-    shade_band(&bd);
+    settle_band(&bd);
 }
 
 static void *worker(void *arg) {

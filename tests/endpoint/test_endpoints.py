@@ -11,7 +11,8 @@ on any failure):
      was asked (route/status counters, the latency histogram, triangles, pixels);
   2. rendered tiles, in every format (png, png16, exr, exr-half, tiff, raw; by "format"
      and by Accept), decode (OpenImageIO) to the reconstruction /v1/evaluate gives at
-     the pixel centres of api/openapi.yaml: float formats bit for bit, half to half
+     the pixel centres of api/openapi.yaml: float formats to float32 of a value within 1e-12 of
+     the data scale of it (the fast cubic), half to half
      precision, PNG exactly as the contract's quantization, alpha and background
      outside the mesh, and a tile whose centres fall on vertices and edges;
   3. /v1/ordinates (and /v1/evaluate, /v1/render) equal build/tocher byte for byte,
@@ -396,7 +397,12 @@ def tile_errors(resp, fmt, vp, ref, outside, background, exposure=0, linear=Fals
     bg = np.array(background if isinstance(background, list) else [background] * nc, dtype=np.float64)
     expect = np.where(np.isnan(ref), bg[None, :], ref).reshape(h, w, nc)
     expect[~inside] = bg
-    exp32 = expect.astype(np.float32)  # the contract: the double rounded once to float
+    exp32 = expect.astype(np.float32)  # the contract: the double rounded once to float ...
+    # ... give or take 1e-12 of the data's scale (the fast cubic: README, docs/design-notes.md): the
+    # float32 of any double within that distance of /v1/evaluate's value is right.
+    finite = np.abs(ref[np.isfinite(ref)])
+    slack = 1e-12 * (finite.max() if finite.size else 0.0)
+    lo32, hi32 = (expect - slack).astype(np.float32), (expect + slack).astype(np.float32)
     names = ["Y"] if nc == 1 else ["R", "G", "B"] if nc == 3 else ["ch%d" % c for c in range(nc)]
     if fmt == "raw":
         data, alpha = img.px, None
@@ -412,8 +418,8 @@ def tile_errors(resp, fmt, vp, ref, outside, background, exposure=0, linear=Fals
         alpha = img.px[:, :, img.alpha]
     # the values
     if fmt in ("raw", "exr", "tiff"):
-        bad = data != exp32
-        what = "not float32(value)"
+        bad = (data < lo32) | (data > hi32)
+        what = "not float32(value within 1e-12 of the scale)"
     elif fmt == "exr-half":
         got = data.astype(np.float64)
         e = exp32.astype(np.float64)
@@ -422,11 +428,15 @@ def tile_errors(resp, fmt, vp, ref, outside, background, exposure=0, linear=Fals
     else:
         maxval = 255 if fmt == "png" else 65535
         q = np.empty((h, w, nc), dtype=np.int64)
+        qlo, qhi = np.empty_like(q), np.empty_like(q)
         for j in range(h):
             for i in range(w):
                 for c in range(nc):
                     q[j, i, c] = png_level(exp32[j, i, c], exposure, linear, maxval)
-        bad = data.astype(np.int64) != q
+                    qlo[j, i, c] = png_level(lo32[j, i, c], exposure, linear, maxval)
+                    qhi[j, i, c] = png_level(hi32[j, i, c], exposure, linear, maxval)
+        got = data.astype(np.int64)
+        bad = (got < qlo) | (got > qhi)
         what = "not the contract's quantization"
         off = np.abs(data.astype(np.int64) - q)
         if off.max() > 1:
@@ -839,9 +849,13 @@ def section_threads(D):
         ref, outside = evaluate_points(D, RGB, [pts[k] for k in idx])
         tile = np.frombuffer(raws, dtype="<f4").reshape(-1, 3)
         bg = np.zeros(3)
-        exp = np.array([bg if n in outside else ref[n] for n in range(len(idx))]).astype(np.float32)
-        bad = np.nonzero((tile[idx] != exp).any(axis=1))[0]
-        check("render 700x500 RGB raw: 1500 sampled pixels == float32(evaluate)", len(bad) == 0,
+        exp64 = np.array([bg if n in outside else ref[n] for n in range(len(idx))])
+        exp = exp64.astype(np.float32)
+        slack = 1e-12 * np.abs(exp64).max()  # the fast cubic's contract (README, docs/design-notes.md)
+        lo, hi = (exp64 - slack).astype(np.float32), (exp64 + slack).astype(np.float32)
+        bad = np.nonzero(((tile[idx] < lo) | (tile[idx] > hi)).any(axis=1))[0]
+        check("render 700x500 RGB raw: 1500 sampled pixels == float32(evaluate within 1e-12 of the scale)",
+              len(bad) == 0,
               "%d differ, e.g. pixel %d: %s vs %s" % (len(bad), idx[bad[0]], tile[idx[bad[0]]], exp[bad[0]])
               if len(bad) else "")
 

@@ -1,11 +1,13 @@
 /* test_raster.c — tile rendering: every pixel centre owned by the triangle
- * tc_locate names, valued exactly as tc_eval_points, the same for any thread count. */
+ * tc_locate names, valued as tc_eval_points within the fast cubic's 1e-12 of the
+ * data scale (exactly for the other methods and slivers), the same for any thread count. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
 #include "core/ct.h"
+#include "core/ct_fast.h"
 #include "core/eval.h"
 #include "meshgen.h"
 #include "props.h"
@@ -36,9 +38,29 @@ static void scene_free(scene *s) {
     tmesh_free(&s->g);
 }
 
+/* The largest |ordinate| of channel ch: the data's scale, give or take the
+ * cubic's swing inside the range it is limited to. */
+static double channel_scale(const tc_recon *r, int ch) {
+    const tc_mesh *m = tc_recon_mesh(r);
+    int nc = tc_mesh_channel_count(m), k = tc_recon_coef_count(r);
+    double s = 0;
+    for (int32_t t = 0; t < tc_mesh_triangle_count(m); t++)
+        for (int i = 0; i < k; i++) s = fmax(s, fabs(tc_recon_coefs(r)[((size_t)t * (size_t)nc + (size_t)ch) * (size_t)k + (size_t)i]));
+    return s;
+}
+
+/* The tile contract for one sample: (float) of a double within 1e-12 of the
+ * scale of the value (the fast cubic; the other paths give (float) of v exactly). */
+static int within_contract(float got, double v, double scale) {
+    double d = 1e-12 * scale;
+    return got >= (float)(v - d) && got <= (float)(v + d);
+}
+
 /* Renders vp and checks every pixel against tc_locate + tc_eval_points. */
 static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
     int nc = tc_mesh_channel_count(s->m);
+    double scale[TC_MAX_CHANNELS];
+    for (int ch = 0; ch < nc; ch++) scale[ch] = channel_scale(s->r, ch);
     size_t np = (size_t)vp->width * (size_t)vp->height;
     float *img = malloc(np * (size_t)nc * sizeof *img);
     int32_t *own = malloc(np * sizeof *own);
@@ -56,8 +78,8 @@ static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
             size_t p = (size_t)j * (size_t)vp->width + (size_t)i;
             bad_owner += own[p] != t;
             for (int ch = 0; ch < nc; ch++) {
-                float want = t >= 0 ? (float)val[ch] : (float)bg[ch];
-                bad_value += memcmp(&img[p * (size_t)nc + (size_t)ch], &want, sizeof want) != 0;
+                float got = img[p * (size_t)nc + (size_t)ch];
+                bad_value += t >= 0 ? !within_contract(got, val[ch], scale[ch]) : got != (float)bg[ch];
             }
         }
     CHECK_MSG(bad_owner == 0, "%d pixels owned differently from tc_locate", bad_owner);
@@ -109,18 +131,95 @@ TEST(raster_runs_match_locate_fuzz) {
     }
 }
 
-/* The cubic's pixels go through tc__ct_span: its portable build must give the
- * same bits as the AVX2 one the CPU picks (and as tc_eval_points). */
-TEST(raster_span_portable_build) {
+/* The row loop (ownership lanes, the fast cubic) and tc__ct_span each have a
+ * portable and an AVX2 build: the same bits whichever runs (no contraction, no
+ * reassociation), and each within the contract. */
+TEST(raster_portable_build_same_bits) {
     scene s;
     scene_init(&s, 9, 0.25, 3, tc_test_seed() + 28);
     if (!s.r) return;
     tc_viewport vp = {-0.07, -0.03, 1.05, 1.01, 83, 71};
+    size_t n = (size_t)vp.width * (size_t)vp.height * 3;
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    CHECK(tc_render(s.r, s.L, &vp, NULL, a, NULL) == TC_OK);
     tc__ct_span_force_generic(1);
+    tc__raster_force_generic(1);
     check_tile(&s, &vp, 2);
+    CHECK(tc_render(s.r, s.L, &vp, NULL, b, NULL) == TC_OK);
+    tc__raster_force_generic(0);
     tc__ct_span_force_generic(0);
+    CHECK_MSG(memcmp(a, b, n * sizeof *a) == 0, "the portable build renders other bits than the AVX2 one");
     check_tile(&s, &vp, 1);
+    free(a), free(b);
     scene_free(&s);
+}
+
+/* The fast cubic's doubles against tc_eval_triangle's at points inside every
+ * triangle it serves (aspect <= TC__CT_FAST_ASPECT): within 1e-12 of the
+ * channel's scale, on jittered and flagged meshes, meshes sheared towards the
+ * aspect limit, data far from zero (1e6 + f) and a mesh far from the origin. */
+static double fast_worst(const scene *s, trng *rng, int *served) {
+    const tc_mesh *m = tc_recon_mesh(s->r);
+    int nc = tc_mesh_channel_count(m);
+    double worst = 0, scale[TC_MAX_CHANNELS];
+    for (int ch = 0; ch < nc; ch++) scale[ch] = channel_scale(s->r, ch);
+    for (int32_t t = 0; t < tc_mesh_triangle_count(m); t++) {
+        tc__eval_frame f;
+        tc__frame(m, t, &f);
+        double longest = 0;
+        for (int q = 0; q < 3; q++) longest = fmax(longest, f.e[q][0] * f.e[q][0] + f.e[q][1] * f.e[q][1]);
+        if (!(longest <= TC__CT_FAST_ASPECT * fabs(tc__cross(f.e[0], f.e[1])))) continue;
+        ++*served;
+        tc__ct_fast ff;
+        tc__ct_fast_prepare(&f, tc_recon_coefs(s->r) + (size_t)t * (size_t)nc * TC_CT_ORDINATES, nc, &ff);
+        for (int k = 0; k < 16; k++) {
+            double u = trng_uniform(rng), v = trng_uniform(rng);
+            if (u + v > 1) u = 1 - u, v = 1 - v;
+            double x = f.p[0][0] + u * (f.p[1][0] - f.p[0][0]) + v * (f.p[2][0] - f.p[0][0]);
+            double y = f.p[0][1] + u * (f.p[1][1] - f.p[0][1]) + v * (f.p[2][1] - f.p[0][1]);
+            double K[3], want[TC_MAX_CHANNELS];
+            tc__v4d got[TC_MAX_CHANNELS];
+            tc__ct_fast_row(&ff, y, K);
+            tc__ct_fast_lanes(&ff, K, tc__splat(x), got);
+            tc_eval_triangle(s->r, t, x, y, want, NULL);
+            for (int ch = 0; ch < nc; ch++) worst = fmax(worst, fabs(got[ch][0] - want[ch]) / scale[ch]);
+        }
+    }
+    return worst;
+}
+
+static void offset_f(const void *ctx, double x, double y, int ch, double *val, double grad[2]) {
+    smooth_f(ctx, x, y, ch, val, grad);
+    *val += 1e6;
+}
+
+TEST(raster_fast_cubic_within_contract) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 31);
+    double worst = 0;
+    int served = 0, meshes = 0;
+    for (int k = 0; k < 12; k++) {
+        scene s;
+        if (k < 4) {
+            static const unsigned long seeds[4] = {20, 28, 29, 20}; /* flagged meshes the other tests build */
+            scene_init(&s, 6 + 3 * (k % 2), 0.25, 1 + k % 3, tc_test_seed() + seeds[k]);
+        } else {
+            tmesh_grid(&s.g, 8, 8, 0.3, -1, &rng);
+            double shear = k < 8 ? 3.0 * (k - 3) : 0, far = k >= 10 ? 1e5 : 0;
+            for (int32_t v = 0; v < s.g.nv; v++) {
+                s.g.xy[2 * v] = far + s.g.xy[2 * v] * (1 + shear) , s.g.xy[2 * v + 1] = far + s.g.xy[2 * v + 1] / (1 + shear);
+            }
+            tmesh_sample(&s.g, 2, k % 2 ? offset_f : smooth_f, NULL, k % 3 == 0, 0, 0);
+            s.m = tmesh_build(&s.g);
+            s.r = NULL, s.L = NULL;
+            if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
+        }
+        if (s.r) worst = fmax(worst, fast_worst(&s, &rng, &served)), meshes++;
+        scene_free(&s);
+    }
+    CHECK_MSG(meshes >= 10 && served > 500, "%d meshes, %d triangles served by the fast cubic", meshes, served);
+    CHECK_MSG(worst <= 1e-12, "fast cubic off by %.3g of the scale", worst);
+    if (getenv("TC_TEST_VERBOSE")) printf("    fast cubic: worst %.3g of the scale over %d triangles\n", worst, served);
 }
 
 /* tc__ct_span's doubles against tc_eval_triangle's, bit for bit, both builds:

@@ -1,0 +1,111 @@
+/* scaling.c — tile throughput per thread and thread scaling (issue 17 §3): renders one mesh's
+ * square tile with 1..N threads, best of a few, and prints one JSON object on stdout.
+ *
+ *     build/bench_scaling MESH.json [SIZE [THREADS,...]]     (default 1024, "1,2")
+ *
+ * The viewport is the unit square the bench meshes (bench/perf/meshes.py) cover. Each thread
+ * count renders the same tile; the checksum of every run must agree (bit-identical output for
+ * any thread count), and the program fails if it does not. Built without the daemon or the
+ * image plugin, so the one binary can be carried to a machine with more cores. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/mesh.h"
+#include "core/recon.h"
+#include "io/request.h"
+#include "tocher.h"
+
+static double now_s(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double cpu_s(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static char *slurp(const char *path, size_t *len) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) free(buf), buf = NULL;
+    fclose(f);
+    if (buf) buf[n] = 0, *len = (size_t)n;
+    return buf;
+}
+
+/* Best wall time of tc_render over at least 3 runs and 0.5 s; *cpu the CPU time (all threads)
+ * of the run with the least of it (pixels per CPU second = throughput per thread, the figure a
+ * busy machine disturbs least); *sum gets the pixels' sum. */
+static double render_best(const tc_recon *r, const tc_locator *L, int32_t size, int threads, float *px,
+                          double *sum, double *cpu) {
+    tc_viewport vp = {0, 0, 1, 1, size, size};
+    tc_render_options o = {NULL, threads, 0, 0, 0};
+    double best = INFINITY, spent = 0;
+    *cpu = INFINITY;
+    for (int i = 0; i < 3 || spent < 0.5; i++) {
+        double t0 = now_s(), c0 = cpu_s();
+        if (tc_render(r, L, &vp, &o, px, NULL) != TC_OK) return NAN;
+        double dt = now_s() - t0;
+        *cpu = fmin(*cpu, cpu_s() - c0);
+        best = fmin(best, dt), spent += dt;
+    }
+    double s = 0;
+    for (size_t p = 0; p < (size_t)size * (size_t)size * (size_t)r->m->nc; p++) s += px[p];
+    *sum = s;
+    return best;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s MESH.json [SIZE [THREADS,...]]\n", argv[0]);
+        return 2;
+    }
+    int32_t size = argc > 2 ? atoi(argv[2]) : 1024;
+    const char *list = argc > 3 ? argv[3] : "1,2";
+    size_t len;
+    char *json = slurp(argv[1], &len);
+    tc_request *req = NULL;
+    tc_mesh *m = NULL;
+    tc_recon *r = NULL;
+    tc_locator *L = NULL;
+    double t0 = now_s();
+    if (!json || tc_request_parse(json, len, TC_REQ_MESH, &req, NULL) != TC_REQ_OK ||
+        tc_mesh_new(&req->desc, &m, NULL) != TC_OK || tc_recon_new(m, &req->opt, &r, NULL) != TC_OK ||
+        tc_locator_new(m, &L) != TC_OK) {
+        fprintf(stderr, "%s: cannot build\n", argv[1]);
+        return 1;
+    }
+    double built = now_s() - t0;
+    float *px = malloc((size_t)size * (size_t)size * (size_t)r->m->nc * sizeof *px);
+    if (!px) return 1;
+    printf("{\"mesh\": \"%s\", \"triangles\": %d, \"size\": %d, \"build_s\": %.6f, \"runs\": [", argv[1],
+           (int)tc_mesh_triangle_count(m), (int)size, built);
+    double first = NAN, sum0 = NAN;
+    int bad = 0;
+    char *copy = strdup(list), *save = NULL;
+    for (char *tok = strtok_r(copy, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        int th = atoi(tok);
+        double sum = 0, cpu = 0, s = render_best(r, L, size, th, px, &sum, &cpu);
+        if (isnan(first)) first = s, sum0 = sum;
+        if (memcmp(&sum, &sum0, sizeof sum)) bad = 1;
+        printf("%s{\"threads\": %d, \"seconds\": %.6f, \"mpixel_s\": %.2f, \"mpixel_cpu_s\": %.2f, "
+               "\"speedup\": %.2f, \"checksum\": %.17g}",
+               tok == copy ? "" : ", ", th, s, (double)size * size / s / 1e6, (double)size * size / cpu / 1e6, first / s,
+               sum);
+        fflush(stdout);
+    }
+    printf("], \"identical\": %s}\n", bad ? "false" : "true");
+    free(copy), free(px), free(json);
+    tc_locator_free(L), tc_recon_free(r), tc_mesh_free(m), tc_request_free(req);
+    return bad;
+}
