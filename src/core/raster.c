@@ -30,6 +30,7 @@ typedef struct {
     float *values;
     int32_t *owner;
     const double *xs; /* [width] pixel-centre x of each column, as tc_viewport_pixel_center gives it */
+    const double *ys; /* [rows] pixel-centre y of each row rendered (from row0), likewise */
     int32_t row0, rows; /* the rows rendered: [row0, row0 + rows) of vp, stored from values/owner's row 0 */
     int32_t nbands;
     atomic_int next_band;
@@ -238,6 +239,37 @@ TC__FAST_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3]
  * negative) gets the exact answer without the exact test; the rest go to
  * claim(). Lanes inside are claimed and, for a fast triangle, shaded at once.
  * *first_out / *last_out: whether pixel lo / hi is out. */
+TC__FAST_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3],
+                                    const double al[3], const double dy[3], int32_t i, int32_t k, tc__v4d x,
+                                    unsigned *inb, unsigned *outb) {
+    const struct tc__slot *s = tr->s;
+    tc__v4i in = {-1, -1, -1, -1}, out = {0, 0, 0, 0};
+    for (int e = 0; e < 3; e++) {
+        tc__v4d r = tc__splat(dy[e]) * (x - tc__splat(s->x[e])), det = tc__splat(l[e]) - r;
+        tc__v4i cert = vabs(det) >= tc__splat(ORIENT_ERRBOUND) * (tc__splat(al[e]) + vabs(r));
+        in &= cert & (det > tc__splat(0));
+        out |= cert & (det < tc__splat(0));
+    }
+    unsigned valid = (1u << k) - 1;
+    *inb = tc__mask4(in) & valid, *outb = tc__mask4(out) & valid;
+    unsigned unsure = valid & ~(*inb | *outb);
+    for (int q = 0; unsure; q++, unsure >>= 1) { /* on an edge, or too close to say */
+        if (!(unsure & 1u)) continue;
+        int h = claim(bd, s, i + q, j, y);
+        if (h == TC_SLOT_OWN) *inb |= 1u << q;
+        else if (h == TC_SLOT_OUT) *outb |= 1u << q;
+    }
+}
+
+/* Pixel centres i .. i + k - 1 of the row (k <= 4); lanes beyond repeat the first. */
+TC__FAST_INLINE tc__v4d lanes_x(const double *xs, int32_t i, int32_t k) {
+    tc__v4d x = tc__splat(xs[i]);
+    if (k == 4) memcpy(&x, xs + i, sizeof x);
+    else
+        for (int q = 1; q < k; q++) x[q] = xs[i + q];
+    return x;
+}
+
 TC__FAST_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3], int32_t lo,
                                int32_t hi, int *first_out, int *last_out) {
     const job *jb = bd->jb;
@@ -246,30 +278,24 @@ TC__FAST_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double 
     size_t row = (size_t)(j - jb->row0) * (size_t)jb->vp->width;
     int32_t *orow = jb->owner + row;
     float *vrow = jb->values + row * (size_t)nc;
-    double K[3], al[3], dy[3];
+    double K[3] = {0, 0, 0}, al[3], dy[3];
     if (tr->fast) tc__ct_fast_row(&tr->ff, y, K);
     for (int e = 0; e < 3; e++) al[e] = fabs(l[e]), dy[e] = s->y[e == 2 ? 0 : e + 1] - s->y[e];
+    /* The last four first: with an owned pixel there (b) and one in an earlier
+     * four (a), every pixel between is owned (convexity) and needs no test. */
+    int32_t ilast = lo + (hi - lo) / 4 * 4, klast = hi - ilast + 1, a = -1, b = -1;
+    unsigned lin, lout;
+    classify_lanes(bd, tr, j, y, l, al, dy, ilast, klast, lanes_x(jb->xs, ilast, klast), &lin, &lout);
+    for (int q = klast - 1; q >= 0 && b < 0; q--)
+        if (lin >> q & 1u) b = ilast + q;
     for (int32_t i = lo; i <= hi; i += 4) {
         int32_t k = hi - i + 1 < 4 ? hi - i + 1 : 4;
-        tc__v4d x = tc__splat(jb->xs[i]); /* tail lanes repeat a real pixel */
-        if (k == 4) memcpy(&x, jb->xs + i, sizeof x);
-        else
-            for (int q = 1; q < k; q++) x[q] = jb->xs[i + q];
-        tc__v4i in = {-1, -1, -1, -1}, out = {0, 0, 0, 0};
-        for (int e = 0; e < 3; e++) {
-            tc__v4d r = tc__splat(dy[e]) * (x - tc__splat(s->x[e])), det = tc__splat(l[e]) - r;
-            tc__v4i cert = vabs(det) >= tc__splat(ORIENT_ERRBOUND) * (tc__splat(al[e]) + vabs(r));
-            in &= cert & (det > tc__splat(0));
-            out |= cert & (det < tc__splat(0));
-        }
-        unsigned valid = (1u << k) - 1, inb = tc__mask4(in) & valid, outb = tc__mask4(out) & valid;
-        unsigned unsure = valid & ~(inb | outb);
-        for (int q = 0; unsure; q++, unsure >>= 1) { /* on an edge, or too close to say */
-            if (!(unsure & 1u)) continue;
-            int h = claim(bd, s, i + q, j, y);
-            if (h == TC_SLOT_OWN) inb |= 1u << q;
-            else if (h == TC_SLOT_OUT) outb |= 1u << q;
-        }
+        tc__v4d x = lanes_x(jb->xs, i, k);
+        unsigned inb, outb;
+        if (i == ilast) inb = lin, outb = lout;
+        else if (a >= 0 && b >= i + 3) inb = 15, outb = 0;
+        else classify_lanes(bd, tr, j, y, l, al, dy, i, k, x, &inb, &outb);
+        if (a < 0 && inb) a = i + __builtin_ctz(inb);
         if (inb == 15) {
             v4si t = {s->t, s->t, s->t, s->t};
             memcpy(orow + i, &t, sizeof t);
@@ -294,14 +320,13 @@ TC__FAST_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, in
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
     const struct tc__slot *s = tr->s;
-    double x, y, xl, xr, step = (vp->x1 - vp->x0) / vp->width, l[3];
-    tc_viewport_pixel_center(vp, 0, j, &x, &y);
+    double y = jb->ys[j - jb->row0], xl, xr, per_x = vp->width / (vp->x1 - vp->x0), l[3];
     if (!row_hull(tr, y, &xl, &xr)) return;
     for (int k = 0; k < 3; k++) {
         int n = k == 2 ? 0 : k + 1;
         l[k] = (s->x[n] - s->x[k]) * (y - s->y[k]);
     }
-    double fa = floor((xl - vp->x0) / step - 0.5), fb = ceil((xr - vp->x0) / step - 0.5);
+    double fa = floor((xl - vp->x0) * per_x - 0.5), fb = ceil((xr - vp->x0) * per_x - 0.5); /* a guess */
     int32_t lo = fa < i0 ? i0 : fa > i1 ? i1 : (int32_t)fa, hi = fb > i1 ? i1 : fb < i0 ? i0 : (int32_t)fb;
     int first_out = 1, last_out = 1;
     row_lanes(bd, tr, j, y, l, lo, hi, &first_out, &last_out);
@@ -449,20 +474,19 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
         return TC_EINVAL;
     int32_t rows = ropt->rows ? ropt->rows : vp->height - ropt->row0;
     int32_t *own = owner ? owner : tc__malloc((size_t)vp->width * (size_t)rows, sizeof *own);
-    double *xs = tc__malloc((size_t)vp->width, sizeof *xs);
-    if (!own || !xs) {
+    double *xs = tc__malloc((size_t)vp->width, sizeof *xs), *ys = tc__malloc((size_t)rows, sizeof *ys);
+    if (!own || !xs || !ys) {
         if (!owner) free(own);
-        free(xs);
+        free(xs), free(ys);
         return TC_ENOMEM;
     }
-    for (int32_t i = 0; i < vp->width; i++) {
-        double unused;
-        tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
-    }
-    job jb = {r, L, vp, ropt, values, own, xs, ropt->row0, rows, (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
+    double unused;
+    for (int32_t i = 0; i < vp->width; i++) tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
+    for (int32_t j = 0; j < rows; j++) tc_viewport_pixel_center(vp, 0, ropt->row0 + j, &unused, &ys[j]);
+    job jb = {r, L, vp, ropt, values, own, xs, ys, ropt->row0, rows, (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     if (!owner) free(own);
-    free(xs);
+    free(xs), free(ys);
     return atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;
 }
 
