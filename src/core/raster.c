@@ -377,7 +377,10 @@ static void cover(void *ctx, const struct tc__slot *s) {
         tr.slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
     }
     tc__frame(jb->r->m, s->t, &tr.f);
-    tr.fast = jb->r->eval == tc__ct_eval && frame_aspect(&tr.f) <= TC__CT_FAST_ASPECT;
+    /* The fast form costs ~30 operations per channel to set up: not worth it for a
+     * triangle that covers a few pixels of the band (a 524k mesh on a 1024² tile). */
+    int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
+    tr.fast = jb->r->eval == tc__ct_eval && box >= 16 && frame_aspect(&tr.f) <= TC__CT_FAST_ASPECT;
     if (tr.fast)
         tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->r->m->nc * (size_t)jb->r->ncoef,
                             jb->r->m->nc, &tr.ff);
