@@ -28,20 +28,26 @@ typedef struct {
     const tc_viewport *vp;
     const tc_render_options *ropt;
     float *values;
-    int32_t *owner;
+    int32_t *owner; /* the caller's owners of rows [row0, row0 + rows), or NULL: each band its own */
     const double *xs; /* [width] pixel-centre x of each column, as tc_viewport_pixel_center gives it */
     const double *ys; /* [rows] pixel-centre y of each row rendered (from row0), likewise */
     int32_t row0, rows; /* the rows rendered: [row0, row0 + rows) of vp, stored from values/owner's row 0 */
     int32_t nbands;
     atomic_int next_band;
     atomic_int timed_out;
+    atomic_int no_memory;
 } job;
 
-/* The band being rasterized: rows [j0, j1). */
+/* The band being rasterized: rows [j0, j1), their owners from own (row j0). */
 typedef struct {
     const job *jb;
     int32_t j0, j1;
+    int32_t *own;
 } band;
+
+static inline int32_t *own_row(const band *bd, int32_t j) {
+    return bd->own + (size_t)(j - bd->j0) * (size_t)bd->jb->vp->width;
+}
 
 /* Pixel index range [lo, hi] whose centres may fall in [a, b] along an axis of
  * n pixels starting at origin with the given step (widened by one pixel on each
@@ -57,10 +63,9 @@ static void pixel_range(double a, double b, double origin, double step, int32_t 
  * -2 - t a closed-only candidate (points on the outer boundary; the lowest
  * index wins, as in tc_locate). Returns the test's result. */
 static int claim(const band *bd, const struct tc__slot *s, int32_t i, int32_t j, double y) {
-    const tc_viewport *vp = bd->jb->vp;
     int hit = tc__slot_test(s, bd->jb->xs[i], y);
     if (hit == TC_SLOT_OUT) return hit;
-    int32_t *slot = &bd->jb->owner[tc__ix(j - bd->jb->row0, vp->width, i)];
+    int32_t *slot = &own_row(bd, j)[i];
     if (hit == TC_SLOT_OWN) *slot = s->t;
     else if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
     return hit;
@@ -132,7 +137,7 @@ static int classify(const band *bd, const struct tc__slot *s, const double l[3],
         else if (!(det > 0)) certain_in = 0;
     }
     if (!certain_in) return claim(bd, s, i, j, y);
-    bd->jb->owner[tc__ix(j - bd->jb->row0, bd->jb->vp->width, i)] = s->t;
+    own_row(bd, j)[i] = s->t;
     return TC_SLOT_OWN;
 }
 
@@ -176,7 +181,7 @@ static void shade_run(const job *jb, const tri *tr, int32_t t, const double *xs,
 /* The pixels of row j in [lo, hi] that tr strictly owns (one run, or none) shaded. */
 static void shade_pixels(const band *bd, const tri *tr, int32_t j, double y, int32_t lo, int32_t hi) {
     const job *jb = bd->jb;
-    int32_t *row = jb->owner + (size_t)(j - jb->row0) * (size_t)jb->vp->width, t = tr->s->t;
+    int32_t *row = own_row(bd, j), t = tr->s->t;
     while (lo <= hi && row[lo] != t) lo++;
     while (hi >= lo && row[hi] != t) hi--;
     if (lo <= hi)
@@ -276,7 +281,7 @@ TC__FAST_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double 
     const struct tc__slot *s = tr->s;
     int nc = jb->r->m->nc;
     size_t row = (size_t)(j - jb->row0) * (size_t)jb->vp->width;
-    int32_t *orow = jb->owner + row;
+    int32_t *orow = own_row(bd, j);
     float *vrow = jb->values + row * (size_t)nc;
     double K[3] = {0, 0, 0}, al[3], dy[3];
     if (tr->fast) tc__ct_fast_row(&tr->ff, y, K);
@@ -396,14 +401,14 @@ static void settle_band(const band *bd) {
     const tc_viewport *vp = jb->vp;
     int nc = jb->r->m->nc;
     for (int32_t j = bd->j0; j < bd->j1; j++) {
-        double x, y;
-        tc_viewport_pixel_center(vp, 0, j, &x, &y);
+        double y = jb->ys[j - jb->row0];
         size_t row = (size_t)(j - jb->row0) * (size_t)vp->width;
+        int32_t *orow = own_row(bd, j);
         for (int32_t i = 0; i < vp->width; i++) {
-            int32_t t = jb->owner[row + (size_t)i];
+            int32_t t = orow[i];
             if (t >= 0 && i + 8 <= vp->width) { /* skip owned pixels eight at a time */
                 int32_t any = 0;
-                for (int q = 0; q < 8; q++) any |= jb->owner[row + (size_t)i + (size_t)q];
+                for (int q = 0; q < 8; q++) any |= orow[i + q];
                 if (any >= 0) {
                     i += 7;
                     continue;
@@ -417,19 +422,22 @@ static void settle_band(const band *bd) {
                 continue;
             }
             tri tr = {.s = NULL, .fast = 0};
-            t = jb->owner[row + (size_t)i] = -2 - t;
+            t = orow[i] = -2 - t;
             tc__frame(jb->r->m, t, &tr.f);
             shade_run(jb, &tr, t, jb->xs + i, y, 1, out);
         }
     }
 }
 
-static void render_band(job *jb, int32_t b) {
+/* Band b, its owners in the caller's array or in scratch (BAND_ROWS rows of
+ * the worker's: a tile's owners need never exist at once, nor touch memory
+ * outside the cache, when the caller does not want them). */
+static void render_band(job *jb, int32_t b, int32_t *scratch) {
     const tc_viewport *vp = jb->vp;
-    band bd = {jb, jb->row0 + b * BAND_ROWS, jb->row0 + (b + 1) * BAND_ROWS};
+    band bd = {jb, jb->row0 + b * BAND_ROWS, jb->row0 + (b + 1) * BAND_ROWS, scratch};
     if (bd.j1 > jb->row0 + jb->rows) bd.j1 = jb->row0 + jb->rows;
-    size_t p0 = (size_t)(bd.j0 - jb->row0) * (size_t)vp->width, p1 = (size_t)(bd.j1 - jb->row0) * (size_t)vp->width;
-    memset(jb->owner + p0, 0xff, (p1 - p0) * sizeof *jb->owner); /* every owner -1: all bytes 0xff */
+    if (jb->owner) bd.own = jb->owner + (size_t)(bd.j0 - jb->row0) * (size_t)vp->width;
+    memset(bd.own, 0xff, (size_t)(bd.j1 - bd.j0) * (size_t)vp->width * sizeof *bd.own); /* all -1 */
     double xa, ya, xb, yb, lo[2], hi[2];
     tc_viewport_pixel_center(vp, 0, bd.j1 - 1, &xa, &ya);
     tc_viewport_pixel_center(vp, vp->width - 1, bd.j0, &xb, &yb);
@@ -440,15 +448,22 @@ static void render_band(job *jb, int32_t b) {
 
 static void *worker(void *arg) {
     job *jb = arg;
+    int32_t *scratch = jb->owner ? NULL : tc__malloc((size_t)BAND_ROWS * (size_t)jb->vp->width, sizeof *scratch);
+    if (!jb->owner && !scratch) {
+        atomic_store(&jb->no_memory, 1);
+        return NULL;
+    }
     for (;;) {
         int32_t b = atomic_fetch_add(&jb->next_band, 1);
-        if (b >= jb->nbands || atomic_load(&jb->timed_out)) return NULL;
+        if (b >= jb->nbands || atomic_load(&jb->timed_out) || atomic_load(&jb->no_memory)) break;
         if (jb->ropt->deadline_ms > 0 && tc_now_ms() > jb->ropt->deadline_ms) {
             atomic_store(&jb->timed_out, 1);
-            return NULL;
+            break;
         }
-        render_band(jb, b);
+        render_band(jb, b, scratch);
     }
+    free(scratch);
+    return NULL;
 }
 
 static int valid_viewport(const tc_viewport *vp) {
@@ -476,21 +491,18 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
         ropt->rows > vp->height - ropt->row0)
         return TC_EINVAL;
     int32_t rows = ropt->rows ? ropt->rows : vp->height - ropt->row0;
-    int32_t *own = owner ? owner : tc__malloc((size_t)vp->width * (size_t)rows, sizeof *own);
     double *xs = tc__malloc((size_t)vp->width, sizeof *xs), *ys = tc__malloc((size_t)rows, sizeof *ys);
-    if (!own || !xs || !ys) {
-        if (!owner) free(own);
+    if (!xs || !ys) {
         free(xs), free(ys);
         return TC_ENOMEM;
     }
     double unused;
     for (int32_t i = 0; i < vp->width; i++) tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
     for (int32_t j = 0; j < rows; j++) tc_viewport_pixel_center(vp, 0, ropt->row0 + j, &unused, &ys[j]);
-    job jb = {r, L, vp, ropt, values, own, xs, ys, ropt->row0, rows, (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0};
+    job jb = {r, L, vp, ropt, values, owner, xs, ys, ropt->row0, rows, (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
-    if (!owner) free(own);
     free(xs), free(ys);
-    return atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;
+    return atomic_load(&jb.no_memory) ? TC_ENOMEM : atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;
 }
 
 /* ---- mesh overlay ---- */
