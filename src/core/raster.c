@@ -89,6 +89,23 @@ typedef struct {
     tc__ct_fast ff;
 } tri;
 
+/* The part of tc__frame (geom.h) the fast form reads — corners, edges, inv_a —
+ * computed as it computes them. */
+static void corner_frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    for (int i = 0; i < 3; i++) {
+        const double *q = tc__vxy(m, v[i]);
+        f->p[i][0] = q[0], f->p[i][1] = q[1];
+    }
+    for (int i = 0; i < 3; i++) {
+        const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
+        double ca[2];
+        tc__sub(f->e[i], b, a);
+        tc__sub(ca, f->p[i], a);
+        f->inv_a[i] = 1 / tc__cross(f->e[i], ca);
+    }
+}
+
 /* Longest edge squared over twice the area (tc__face_aspect's measure); NaN or
  * infinite for a degenerate frame, which then fails every <= test. */
 static double frame_aspect(const tc__eval_frame *f) {
@@ -366,8 +383,8 @@ static void cover(void *ctx, const struct tc__slot *s) {
     const band *bd = ctx;
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
-    double xmin = fmin(s->x[0], fmin(s->x[1], s->x[2])), xmax = fmax(s->x[0], fmax(s->x[1], s->x[2]));
-    double ymin = fmin(s->y[0], fmin(s->y[1], s->y[2])), ymax = fmax(s->y[0], fmax(s->y[1], s->y[2]));
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    for (int k = 0; k < 3; k++) widen(s->x[k], &xmin, &xmax), widen(s->y[k], &ymin, &ymax);
     int32_t i0, i1, j0, j1;
     pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, vp->width, &i0, &i1);
     /* Rows count downwards from y1. */
@@ -381,14 +398,19 @@ static void cover(void *ctx, const struct tc__slot *s) {
         int n = k == 2 ? 0 : k + 1;
         tr.slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
     }
-    tc__frame(jb->r->m, s->t, &tr.f);
     /* The fast form costs ~30 operations per channel to set up: not worth it for a
      * triangle that covers a few pixels of the band (a 524k mesh on a 1024² tile). */
     int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
-    tr.fast = jb->r->eval == tc__ct_eval && box >= 16 && frame_aspect(&tr.f) <= TC__CT_FAST_ASPECT;
+    tr.fast = 0;
+    if (jb->r->eval == tc__ct_eval && box >= 16) {
+        corner_frame(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
+        tr.fast = frame_aspect(&tr.f) <= TC__CT_FAST_ASPECT;
+    }
     if (tr.fast)
         tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->r->m->nc * (size_t)jb->r->ncoef,
                             jb->r->m->nc, &tr.ff);
+    else
+        tc__frame(jb->r->m, s->t, &tr.f);
     if (!force_generic && __builtin_cpu_supports("avx2")) cover_rows_avx2(bd, &tr, j0, j1, i0, i1);
     else cover_rows_generic(bd, &tr, j0, j1, i0, i1);
 }
