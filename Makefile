@@ -163,7 +163,7 @@ numfmt-full: $(BUILD)/test_unit
 check: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG WARN_EXTRA=-Wconversion \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
-	  all build/san/test_unit build/san/report build/san/bench_perf build/san/bench_numfmt
+	  all build/san/test_unit build/san/report build/san/bench_perf build/san/bench_numfmt build/san/bench_scaling
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 
 # The libFuzzer target over the JSON API's request -> response functions (tests/fuzz/):

@@ -63,6 +63,8 @@ class Run:
         self.redis = load(outdir, "redis.json") if os.path.exists(os.path.join(outdir, "redis.json")) else None
         self.cluster = load(outdir, "cluster.json") if os.path.exists(os.path.join(outdir, "cluster.json")) else None
         self.names = [n for n in self.toch["meshes"] if n in self.peers["meshes"]]
+        self.scaling = {size: load(outdir, "scaling%d.json" % size) for size in (1024, 4096)
+                        if os.path.exists(os.path.join(outdir, "scaling%d.json" % size))}
         try:
             with open(os.path.join(outdir, "lscpu.txt")) as f:
                 self.cpu = next((l.split(":", 1)[1].strip() for l in f if l.startswith("Model name")), "?")
@@ -135,6 +137,79 @@ def section_tile(r):
                      ratio(s["render1"], s["scipy"]), ratio(s["render2"], s["scipy"])])
     return table(["mesh", "tocher render, 1 thread", "2 threads", "tocher eval of the centres", "scipy",
                   "mpl cubic", "mpl linear", "render 1t / scipy", "render 2t / scipy"], rows)
+
+
+DEVICE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "device")
+
+
+def device_figures():
+    """The thread-scaling run on the lent 16-core machine (bench/perf/device.sh, committed under
+    bench/perf/device/): {name: json}, the machine's model and its date; {} when absent."""
+    if not os.path.isdir(DEVICE):
+        return {}
+    out = {}
+    for name in ("tile1024", "tile4096", "build524k", "scipy_tile"):
+        path = os.path.join(DEVICE, name + ".json")
+        if os.path.exists(path):
+            out[name] = load(DEVICE, name + ".json")
+    try:
+        with open(os.path.join(DEVICE, "lscpu.txt")) as f:
+            text = f.read()
+        out["cpu"] = next((l.split(":", 1)[1].strip() for l in text.splitlines() if l.startswith("Model name")), "?")
+        out["cpus"] = next((l.split(":", 1)[1].strip() for l in text.splitlines() if l.startswith("CPU(s)")), "?")
+    except OSError:
+        out["cpu"], out["cpus"] = "?", "?"
+    with open(os.path.join(DEVICE, "README.md")) as f:
+        out["when"] = f.readline().strip()
+    return out
+
+
+def scaling_rows(run, first=None):
+    """Rows of one bench_scaling run: threads, wall Mpixel/s, Mpixel per CPU-second, speed-up."""
+    rows = []
+    for x in run["runs"]:
+        rows.append([x["threads"], "%.1f" % x["mpixel_s"], "%.1f" % x["mpixel_cpu_s"], "%.2f×" % x["speedup"]])
+    return rows
+
+
+def section_scaling(r):
+    """Tiles per thread (this machine) and thread scaling (the lent 16-core machine)."""
+    out = []
+    scipy64 = r.p("grid64")["ct_eval_tile_pps"] if "grid64" in r.names else None
+    for size, run in sorted(r.scaling.items()):
+        one = run["runs"][0]
+        out.append("**This machine, grid64 (8192 triangles), %d² tile** (one channel, raw floats; every thread "
+                   "count gives the same bytes: %s)%s:\n" % (
+                       size, "yes" if run["identical"] else "**no**",
+                       "; scipy evaluates the same 1024² centres at %s, so one thread is %s scipy" % (
+                           si(scipy64, "/s"), ratio(one["mpixel_cpu_s"] * 1e6, scipy64))
+                       if size == 1024 and scipy64 else ""))
+        out.append(table(["threads", "Mpixel/s (wall)", "Mpixel per CPU-second", "speed-up"], scaling_rows(run)))
+        out.append("")
+    dev = device_figures()
+    if dev:
+        out.append("**The lent machine** (%s, %s CPUs; %s; `bench/perf/device.sh`, files in "
+                   "`bench/perf/device/`):\n" % (dev["cpu"], dev["cpus"], dev["when"]))
+        for name, label in (("tile1024", "1024² tile, grid64"), ("tile4096", "4096² tile, grid64")):
+            if name in dev:
+                run = dev[name]
+                out.append("%s (same bytes for every count: %s):\n" % (label, "yes" if run["identical"] else "**no**"))
+                out.append(table(["threads", "Mpixel/s (wall)", "Mpixel per CPU-second", "speed-up"],
+                                 scaling_rows(run)))
+                out.append("")
+        if "build524k" in dev:
+            b = dev["build524k"]
+            out.append("Validation and build of grid512 (524 288 triangles, gradients given), from the parsed request:\n")
+            out.append(table(["threads", "validate", "build", "together", "speed-up"],
+                             [[x["threads"], sec(x["validate_s"]), sec(x["build_s"]), sec(x["total_s"]),
+                               "%.2f×" % x["speedup"]] for x in b["runs"]]))
+            out.append("")
+        if "scipy_tile" in dev and "tile1024" in dev:
+            sp = dev["scipy_tile"]["per_s"]
+            one = dev["tile1024"]["runs"][0]["mpixel_s"] * 1e6
+            out.append("scipy on the same machine evaluates the 1024² tile's centres at %s: one tocher thread is %s." % (
+                si(sp, "/s"), ratio(one, sp)))
+    return "\n".join(out)
 
 
 def section_request(r):
@@ -454,11 +529,21 @@ Z order (each point's result is independent of the order; a unit test checks it 
 ## Tiles (1024×1024 pixel centres over the unit square)
 
 tocher's render is `tc_render`: exact ownership of every pixel centre (the same rule as point location)
-and each pixel evaluated exactly as `/v1/evaluate` would at its centre, rounded once to float; "eval of
-the centres" is `tc_eval_points` on the same 1M points given as scattered points. The peers evaluate the
+and each pixel `/v1/evaluate`'s value at its centre — for the cubic on triangles of aspect ≤ 64 within
+1e-12 of the data scale, from the renderer's monomial form — rounded once to float; "eval of the
+centres" is `tc_eval_points` on the same 1M points given as scattered points. The peers evaluate the
 same centres as one array of points.
 
 {section_tile(r)}
+
+## Tiles per thread and thread scaling
+
+`build/bench_scaling` (bench/perf/scaling.c): `tc_render` of one tile with 1, 2, … threads, best of at
+least three runs and 0.5 s. "Mpixel per CPU-second" is pixels over the CPU time of all threads: the
+throughput of one thread, and the figure a busy machine disturbs least. This machine has 2 cores,
+so scaling is measured on the 16-core machine the `device` tool lends (below, when its files are there).
+
+{section_scaling(r)}
 
 ## Requests: parse, build, render, encode
 

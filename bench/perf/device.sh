@@ -1,0 +1,33 @@
+#!/bin/sh
+# device.sh — the thread-scaling figures of issue 17 on a machine with more cores than the
+# development one (the `device` tool lends a 16-core one): tiles and the build at 1..16 threads,
+# and scipy on the same tile's pixel centres, one run. Not part of `make bench` (CI never has
+# such a machine); its output is committed under bench/perf/device/ and read by report.py.
+#
+#     bench/perf/device.sh DIR OUT     DIR holds bench_scaling and libcjson.so.1, built here
+set -eu
+D=$1
+OUT=$2
+M=/tmp/tocher-meshes
+mkdir -p "$M" "$OUT"
+export LD_LIBRARY_PATH="$D${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+(lscpu; nproc) > "$OUT/lscpu.txt" 2>&1 || true
+${PY:-python3} bench/perf/meshes.py "$M" > "$OUT/meshes.log" 2>&1
+T="1,2,4,8,12,16"
+"$D/bench_scaling" "$M/grid64.json" 1024 "$T" > "$OUT/tile1024.json"
+"$D/bench_scaling" "$M/grid64.json" 4096 "$T" > "$OUT/tile4096.json"
+if "$D/bench_scaling" --help 2>&1 | grep -q -- --build; then
+  "$D/bench_scaling" --build "$M/grid512.json" "$T" > "$OUT/build524k.json"
+fi
+${PY:-python3} - "$M" > "$OUT/scipy_tile.json" <<'PY'
+import json, sys, time
+import numpy as np
+from scipy.interpolate import CloughTocher2DInterpolator
+z = np.load(sys.argv[1] + "/grid64.npz")
+ct = CloughTocher2DInterpolator(z["points"], z["values"])  # qhull here gives meshes.py's triangles
+c = (np.arange(1024) + 0.5) / 1024
+xy = np.stack(np.meshgrid(c, c[::-1]), axis=-1).reshape(-1, 2)  # row by row from the top, as a tile
+ct(xy[:1000])
+best = min((lambda t0: (ct(xy), time.perf_counter() - t0)[1])(time.perf_counter()) for _ in range(3))
+print(json.dumps({"mesh": "grid64", "points": len(xy), "seconds": best, "per_s": len(xy) / best}))
+PY
