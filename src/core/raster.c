@@ -254,6 +254,53 @@ TC__FAST_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3]
     }
 }
 
+/* Whether d = a - b is exact: Knuth's TwoSum error of a + (-b) is 0. */
+static inline int diff_exact(double a, double b, double d) {
+    double bb = d - a;
+    return (a - (d - bb)) + (-b - bb) == 0;
+}
+
+/* Operands whose products neither underflow nor overflow: 0, or 2^-400 <= |v| <= 2^400. */
+static inline int tame(double v) {
+    double a = fabs(v);
+    return a == 0 || (a >= 0x1p-400 && a <= 0x1p400);
+}
+
+/* The sign (-1, 0, 1) of edge k's orientation at (x, y), computed as orient_sign
+ * computes it: certified by its bound, or else exact because nothing rounded
+ * (each difference checked by TwoSum, each product by fma, the difference of
+ * the products by TwoSum: a centre exactly on a grid's diagonal). 2: neither,
+ * only the exact test can say. */
+static int edge_sign(const struct tc__slot *s, const double l[3], int k, double x, double y) {
+    int n = k == 2 ? 0 : k + 1;
+    double a = s->x[n] - s->x[k], b = y - s->y[k], c = s->y[n] - s->y[k], d = x - s->x[k];
+    double r = c * d, det = l[k] - r;
+    if (fabs(det) >= ORIENT_ERRBOUND * (fabs(l[k]) + fabs(r))) return (det > 0) - (det < 0);
+    if (!tame(a) || !tame(b) || !tame(c) || !tame(d) || !diff_exact(s->x[n], s->x[k], a) ||
+        !diff_exact(y, s->y[k], b) || !diff_exact(s->y[n], s->y[k], c) || !diff_exact(x, s->x[k], d) ||
+        fma(a, b, -l[k]) != 0 || fma(c, d, -r) != 0 || !diff_exact(l[k], r, det))
+        return 2;
+    return (det > 0) - (det < 0);
+}
+
+/* A pixel classify_lanes could not certify: tc__slot_test's answer from the
+ * edges' exact signs where edge_sign knows them (zero: inside for an edge the
+ * triangle lies left of, touching otherwise), claim() where it does not; the
+ * claim made as claim() makes it. */
+static int on_edges(const band *bd, const struct tc__slot *s, const double l[3], int32_t i, int32_t j, double y) {
+    int hit = TC_SLOT_OWN;
+    for (int k = 0; k < 3; k++) {
+        int sg = edge_sign(s, l, k, bd->jb->xs[i], y);
+        if (sg == 2) return claim(bd, s, i, j, y);
+        if (sg < 0) return TC_SLOT_OUT;
+        if (sg == 0 && !(s->left >> k & 1u)) hit = TC_SLOT_TOUCH;
+    }
+    int32_t *slot = &own_row(bd, j)[i];
+    if (hit == TC_SLOT_OWN) *slot = s->t;
+    else if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
+    return hit;
+}
+
 /* Pixels [lo, hi] of row j, four at a time: each edge's orientation computed
  * as orient_sign computes it (from corner k: l - r, l = (x[k+1] - x[k])
  * (y - y[k]), r = (y[k+1] - y[k]) (x - x[k])) and its sign certified by the
@@ -277,7 +324,7 @@ TC__FAST_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, do
     unsigned unsure = valid & ~(*inb | *outb);
     for (int q = 0; unsure; q++, unsure >>= 1) { /* on an edge, or too close to say */
         if (!(unsure & 1u)) continue;
-        int h = claim(bd, s, i + q, j, y);
+        int h = on_edges(bd, s, l, i + q, j, y);
         if (h == TC_SLOT_OWN) *inb |= 1u << q;
         else if (h == TC_SLOT_OUT) *outb |= 1u << q;
     }
@@ -368,7 +415,7 @@ static void cover_rows_generic(const band *bd, const tri *tr, int32_t j0, int32_
     for (int32_t j = j0; j <= j1; j++) cover_row_body(bd, tr, j, i0, i1);
 }
 
-__attribute__((target("avx2"))) static void cover_rows_avx2(const band *bd, const tri *tr, int32_t j0, int32_t j1,
+__attribute__((target("avx2,fma"))) static void cover_rows_avx2(const band *bd, const tri *tr, int32_t j0, int32_t j1,
                                                              int32_t i0, int32_t i1) {
     for (int32_t j = j0; j <= j1; j++) cover_row_body(bd, tr, j, i0, i1);
 }
