@@ -156,6 +156,8 @@ static int job_build(job *j, const char *body, size_t len, unsigned expect, cons
     return job_make(j, lim, res, t0);
 }
 
+/* Ends the answer in body and puts it in out: appended to out's content, or, when out is
+ * empty, handed over (a big answer is not copied; its pages were faulted in once). */
 static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
     tc_json_diags(body, "warnings", &res->diags, TC_SEV_WARNING);
     tc_strbuf_puts(body, "}\n");
@@ -164,8 +166,14 @@ static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
         tc_diags_add(&res->diags, TC_SEV_ERROR, "", "out of memory writing the response");
         return res->status = 500;
     }
-    tc_strbuf_append(out, body->buf, body->len);
-    tc_strbuf_free(body);
+    if (!out->len && !out->oom) { /* the usual case: out becomes the body, no copy */
+        size_t len = 0, cap = body->cap;
+        char *buf = tc_strbuf_detach(body, &len);
+        tc_strbuf_adopt(out, buf, len, cap);
+    } else {
+        tc_strbuf_append(out, body->buf, body->len);
+        tc_strbuf_free(body);
+    }
     return res->status = out->oom ? 500 : 200;
 }
 

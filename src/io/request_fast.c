@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/hugemem.h"
 #include "io/reader.h"
 #include "io/strtod_fast.h"
 
@@ -71,7 +72,7 @@ static int number(scan *sc) {
         return -1; /* longer than cJSON's buffer, or "1.5.2": not ours */
     if (sc->count == sc->cap) {
         size_t cap = sc->cap ? 2 * sc->cap : 4096;
-        double *p = realloc(sc->data, cap * sizeof *p);
+        double *p = tc__huge_realloc(sc->data, cap * sizeof *p);
         if (!p) return sc->nomem = 1, -1;
         sc->data = p, sc->cap = cap;
     }

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/hugemem.h"
 #include "io/numfmt.h"
 
 #define TC_STRBUF_MIN_CAP 64
@@ -36,7 +37,7 @@ static int grow(tc_strbuf *b, size_t n) {
     size_t need = b->len + n + 1;
     size_t cap = b->cap ? b->cap : TC_STRBUF_MIN_CAP;
     while (cap < need) cap = cap > SIZE_MAX / 2 ? need : 2 * cap;
-    char *p = realloc(b->buf, cap);
+    char *p = tc__huge_realloc(b->buf, cap); /* a big answer: huge pages, few faults */
     if (!p) goto fail;
     if (!b->cap) p[0] = '\0';
     b->buf = p;
