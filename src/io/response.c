@@ -87,6 +87,9 @@ void tc_json_ordinates_enc(tc_strbuf *b, const tc_recon *r, int base64) {
     const tc_mesh *m = tc_recon_mesh(r);
     int nc = tc_mesh_channel_count(m), nk = tc_recon_coef_count(r);
     int32_t ngiven = tc_mesh_given_triangle_count(m);
+    /* All of it at once, the small members before the numbers included (typed_ordinates
+     * reserves its exact size itself). */
+    if (!base64 && tc_strbuf_reserve(b, 4096 + json_ordinates_bound((size_t)ngiven, (size_t)nc, (size_t)nk))) return;
     tc_json_options(b, tc_recon_options(r));
     member(b, "channels");
     tc_strbuf_int(b, nc);
@@ -98,7 +101,6 @@ void tc_json_ordinates_enc(tc_strbuf *b, const tc_recon *r, int base64) {
     }
     tc_strbuf_putc(b, ']');
     member(b, "ordinates");
-    if (!base64 && tc_strbuf_reserve(b, json_ordinates_bound((size_t)ngiven, (size_t)nc, (size_t)nk))) return;
     if (base64) {
         typed_ordinates(b, r);
         return;

@@ -13,6 +13,10 @@
 
 #define TC_STRBUF_MIN_CAP 64
 
+static _Thread_local long grows; /* test hook: reallocations so far in this thread */
+
+long tc_strbuf__grows(void) { return grows; }
+
 void tc_strbuf_init(tc_strbuf *b) {
     b->buf = NULL;
     b->len = b->cap = 0;
@@ -42,6 +46,7 @@ static int grow(tc_strbuf *b, size_t n) {
     if (!b->cap) p[0] = '\0';
     b->buf = p;
     b->cap = cap;
+    grows++;
     return 0;
 fail:
     b->oom = 1;
