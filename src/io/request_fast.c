@@ -169,19 +169,35 @@ static int string(scan *sc, int *escaped) {
     return -1;
 }
 
+/* Skips a string at its opening quote when its bytes do not matter (a value skip_value
+ * passes over): the same end as string()'s byte loop, the first '"' after an even run of
+ * backslashes, found with memchr at memory speed (a typed array's base64 data is most of
+ * its body). -1 if unterminated. */
+static int skip_string(scan *sc) {
+    size_t i = sc->i + 1;
+    for (size_t from = i; from < sc->len;) {
+        const char *q = memchr(sc->s + from, '"', sc->len - from);
+        if (!q) break;
+        size_t at = (size_t)(q - sc->s), k = at;
+        while (k > i && sc->s[k - 1] == '\\') k--;
+        if ((at - k) % 2 == 0) return sc->i = at + 1, 0;
+        from = at + 1;
+    }
+    return -1;
+}
+
 /* Skips any value at i the way a JSON parser delimits it (a string, a balanced container with
  * the strings in it, or a scalar up to the next delimiter); -1 when it cannot tell where the
  * value ends. Values it skips are cJSON's to judge. */
 static int skip_value(scan *sc) {
-    int esc;
     size_t from = sc->i;
-    if (at(sc, '"')) return string(sc, &esc);
+    if (at(sc, '"')) return skip_string(sc);
     if (at(sc, '[') || at(sc, '{')) {
         int depth = 0;
         while (sc->i < sc->len) {
             char c = sc->s[sc->i];
             if (c == '"') {
-                if (string(sc, &esc)) return -1;
+                if (skip_string(sc)) return -1;
                 continue;
             }
             sc->i++;
