@@ -163,7 +163,12 @@ static cJSON *parse_json(tc__reader *rd, const char *json, size_t len) {
         cJSON_Delete(root);
         return NULL;
     }
-    tc__rd_fast_bind(rd, root);
+    if (tc__rd_fast_bind(rd, root)) { /* never seen: the walk and the tree disagree; be safe */
+        cJSON_Delete(root);
+        tc__rd_fast_free(rd);
+        root = cJSON_ParseWithLength(json, len);
+        if (!root) rd->nomem = 1; /* the skeleton parsed, so the body does: only memory fails */
+    }
     return root;
 }
 

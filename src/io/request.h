@@ -84,5 +84,7 @@ void tc_request__fail_alloc_after(long n);
 void tc_request__fast_arrays(int on);
 /* For tests only: how many arrays the last successful parse on this thread read fast. */
 int tc_request__fast_taken(void);
+/* Test hook: typed arrays' "data" strings the last parse read from the body (not cJSON). */
+int tc_request__fast_spans(void);
 
 #endif /* TC_IO_REQUEST_H */

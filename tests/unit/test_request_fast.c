@@ -227,3 +227,42 @@ TEST(request_fast_bad_input_same_findings) {
     CHECK_MSG(ok >= 5 && ok <= 25, "%d of the bodies accepted", ok);
     CHECK_MSG(taken >= 15, "the fast path took arrays in only %d bodies", taken);
 }
+
+/* Typed arrays' "data" strings read from the body (not copied by cJSON) give what cJSON's
+ * strings give: the same request, the same findings (bad base64 at the same character, wrong
+ * length, syntax errors after them at the same line and column), and strings with an escape
+ * or a \u0000 are left to cJSON. */
+TEST(fast_typed_data_strings_agree) {
+    static const char *const V = "{\"dtype\":\"float64\",\"shape\":[3,2],\"data\":\"AAAAAAAAAAAAAAAAAADwPwAAAAAAAAAAAAAAAAAAAAAAAAAAAADwPw==\"}";
+    static const char *const T = "{\"dtype\":\"int32\",\"shape\":[1,3],\"data\":\"AAAAAAEAAAACAAAA\"}";
+    static const struct {
+        const char *vertices, *values, *tail;
+        int spans; /* strings the fast path reads from the body */
+    } cases[] = {
+        {NULL, "[1,2,3]", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}", "", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAA*AAAAQAAAAAAAAAhA\"}", "", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQA==\"}", "", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}", ",\"x\":[1,}", 0},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}",
+         ",\n  \"method\": \"nope\"", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAh\\/\"}", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAA\\u0000AAAAAhA\"}", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\",\"shape\":[3],\"data\":\"AAAA\"}", "", 4},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":7}", "", 2},
+        {"{\"dtype\":\"float64\",\"shape\":[3,2],\"data\":\"\"}", "[1,2,3]", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}",
+         ",\n \"x\": tru", 0}, /* the skeleton's syntax error, mapped back past the cuts */
+        {NULL, "[1,2,3]", ",\"reference\":{\"points\":{\"dtype\":\"float64\",\"shape\":[1,2],\"data\":\"AAAAAAAAAAAAAAAAAAAAAA==\"}}", 2},
+    };
+    char body[1024];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(body, sizeof body, "{\"vertices\":%s,\n\"triangles\":%s,\"values\":%s%s}",
+                 cases[i].vertices ? cases[i].vertices : V, T, cases[i].values, cases[i].tail);
+        agree(body, TC_REQ_MESH);
+        outcome o = parse(body, strlen(body), TC_REQ_MESH, 1);
+        CHECK_MSG(tc_request__fast_spans() == cases[i].spans, "case %zu: %d strings read from the body, expected %d",
+                  i, tc_request__fast_spans(), cases[i].spans);
+        free(o.findings), free(o.canon);
+    }
+}
