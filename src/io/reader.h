@@ -72,6 +72,7 @@ typedef struct {
     int nfast;
     tc__span spans[TC__SPAN_MAX]; /* the "data" strings it saw, nspans of them */
     int nspans;
+    tc_req_limits *limits; /* tc_request_parse_limited's, or NULL */
 } tc__reader;
 
 /* What a finding is, which decides the answer's status. */

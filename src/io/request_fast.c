@@ -128,8 +128,9 @@ static int entry(scan *sc, int *d1, int *d2) {
     return 0;
 }
 
-/* The array at i (at its '['): 0 and f filled, or -1 (sc->data freed either way on failure). */
-static int array(scan *sc, tc__fast *f) {
+/* The array at i (at its '['): 0 and f filled, or -1 (sc->data freed either way on failure).
+ * max > 0: -1 as soon as it has more entries (left to the prescan, which reports it). */
+static int array(scan *sc, tc__fast *f, int64_t max) {
     f->start = sc->i++;
     sc->data = NULL, sc->count = sc->cap = 0;
     ws(sc);
@@ -139,6 +140,7 @@ static int array(scan *sc, tc__fast *f) {
         int e1, e2;
         if (entry(sc, &e1, &e2) || (n && (e1 != d1 || e2 != d2))) goto fail;
         d1 = e1, d2 = e2, n++;
+        if (max > 0 && (int64_t)n > max) goto fail;
         ws(sc);
         if (at(sc, ']')) break;
         if (!at(sc, ',')) goto fail;
@@ -252,6 +254,13 @@ static int object_value(scan *sc, tc__reader *rd) {
     }
 }
 
+/* The limit tc_request_parse_limited puts on the top-level array `key`; 0: none. */
+static int64_t limit_of(const tc__reader *rd, const char *key) {
+    for (int k = 0; rd->limits && k < rd->limits->n; k++)
+        if (rd->limits->lim[k].max > 0 && !strcmp(rd->limits->lim[k].path, key)) return rd->limits->lim[k].max;
+    return 0;
+}
+
 static void drop(tc__reader *rd) {
     for (int k = 0; k < rd->nfast; k++) free(rd->fast[k].data);
     rd->nfast = 0;
@@ -302,7 +311,7 @@ char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len, size_t *ske
         if (key >= 0 && seen[key]++) goto fail; /* given twice: cJSON's tree decides, not us */
         size_t at_value = sc.i;
         tc__fast *f = &rd->fast[rd->nfast];
-        if (key >= 0 && at(&sc, '[') && !array(&sc, f)) {
+        if (key >= 0 && at(&sc, '[') && !array(&sc, f, limit_of(rd, fast_keys[key]))) {
             f->key = fast_keys[key];
             rd->nfast++;
         } else {
