@@ -3,7 +3,10 @@
 CloughTocher2DInterpolator built from the same points with the gradients given, in one run.
 Prints one JSON object.
 
-    /usr/bin/python3 bench/perf/whole.py [BUILD_DIR ...] [--repeat N] [--quick]
+    /usr/bin/python3 bench/perf/whole.py [BUILD_DIR ...] [--repeat N] [--quick] [--only NAME.FORM]
+
+(e.g. a baseline beside this tree: `git worktree add /tmp/base main && make -C /tmp/base
+build/tocherd`, then `whole.py /tmp/base/build build`; about 4 minutes on 2 shared cores.)
 
 Each BUILD_DIR (default: build) has its build/tocherd started on a free loopback port; with
 several (e.g. a baseline build and this one) they are timed in turns in the same run, so their
@@ -12,7 +15,7 @@ grid64 (8192 triangles), grid256 (131 072) and grid512 (524 288), with exact gra
 
 The client: one keep-alive http.client connection per daemon, the body prepared beforehand
 (bytes), timed from sending the request to having read the whole answer (not decoding it).
-Figures are the best of N runs (--repeat, default 5; 3 for grid512); the phase breakdown
+Figures are the best of N runs (--repeat, default 5; at most 3 for grid512); the phase breakdown
 (Server-Timing: parse, validate, build, encode, total in ms) is that of the best run, and
 "transport_ms" is the client's wall clock less the daemon's total (sending the body, the
 answer's bytes through the socket, HTTP framing).
@@ -23,7 +26,10 @@ scipy (peers.py's definitions, best of N as well):
   - scipy_tri_s:    peers.ct_given_gradients on an already built Delaunay (ct_build_grad_s
     in peers.py), for reference: it is nearly only numpy copies.
 The cases: "json" (plain JSON numbers in and out) and "typed" (typed arrays in, "encoding":
-"base64" out). Each answer is checked once: status 200 and, for typed, the ordinates' shape.
+"base64" out). Each answer is checked once (an untimed first request that also warms the
+daemon up): status 200, the ordinates' shape [T, 1, 19] and, typed, the data's length.
+Warm-up matters on small meshes: the daemon's workers each have a malloc arena, and the first
+few answers a worker writes fault their pages in (use --repeat 5 or more for 8192 triangles).
 """
 import argparse
 import base64
