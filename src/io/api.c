@@ -106,23 +106,26 @@ static int within_limits(const tc_request *req, const tc_api_limits *lim, tc_api
            !over(res, "reference.points", (int64_t)req->nreference, lim->max_points, "reference points");
 }
 
-/* Parses the request, but first counts its limited arrays in the bytes
- * (io/prescan.h): a body over a limit gets its 413 without a cJSON tree, which
- * costs ~40 bytes per byte of input. The messages are within_limits' own. */
+/* Parses the request, counting its limited arrays in the bytes first (io/prescan.h, in
+ * tc_request_parse_limited's one walk with the fast path): a body over a limit gets its 413
+ * without a cJSON tree, which costs ~40 bytes per byte of input. The messages are
+ * within_limits' own. */
 static int parse_within(const char *body, size_t len, unsigned expect, const tc_api_limits *lim, tc_request **req,
                         tc_api_result *res) {
     *req = NULL;
-    if (lim) {
-        int64_t t = lim->max_triangles, n = 0;
-        const tc_scan_limit L[] = {{"vertices", lim->max_vertices}, {"triangles", t}, {"quads", t > 0 ? t / 2 : 0},
-                                   {"points", lim->max_points}, {"reference.points", lim->max_points}};
-        static const char *const what[] = {"vertices", "triangles", "triangles (2 per quad)", "points",
-                                           "reference points"};
-        int k = tc_prescan(body, len, L, (int)(sizeof L / sizeof L[0]), &n);
-        if (k == 2) return over(res, "quads", 2 * n, t, what[k]), REQ_OVER_LIMIT; /* as within_limits counts */
-        if (k >= 0) return over(res, L[k].path, n, L[k].max, what[k]), REQ_OVER_LIMIT;
-    }
-    return tc_request_parse(body, len, expect, req, &res->diags);
+    if (!lim) return tc_request_parse(body, len, expect, req, &res->diags);
+    int64_t t = lim->max_triangles;
+    const tc_scan_limit L[] = {{"vertices", lim->max_vertices}, {"triangles", t}, {"quads", t > 0 ? t / 2 : 0},
+                               {"points", lim->max_points}, {"reference.points", lim->max_points}};
+    static const char *const what[] = {"vertices", "triangles", "triangles (2 per quad)", "points",
+                                       "reference points"};
+    tc_req_limits rl = {L, (int)(sizeof L / sizeof L[0]), -1, 0};
+    int rs = tc_request_parse_limited(body, len, expect, &rl, req, &res->diags);
+    if (rs != TC_REQ_OVER_LIMIT) return rs;
+    int k = rl.over;
+    int64_t n = rl.count;
+    if (k == 2) return over(res, "quads", 2 * n, t, what[k]), REQ_OVER_LIMIT; /* as within_limits counts */
+    return over(res, L[k].path, n, L[k].max, what[k]), REQ_OVER_LIMIT;
 }
 
 /* Parses a request into j->req under the limits: 200, or the status (res says why). */
@@ -156,6 +159,8 @@ static int job_build(job *j, const char *body, size_t len, unsigned expect, cons
     return job_make(j, lim, res, t0);
 }
 
+/* Ends the answer in body and puts it in out: appended to out's content, or, when out is
+ * empty, handed over (a big answer is not copied; its pages were faulted in once). */
 static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
     tc_json_diags(body, "warnings", &res->diags, TC_SEV_WARNING);
     tc_strbuf_puts(body, "}\n");
@@ -164,8 +169,14 @@ static int finish(tc_strbuf *out, tc_strbuf *body, tc_api_result *res) {
         tc_diags_add(&res->diags, TC_SEV_ERROR, "", "out of memory writing the response");
         return res->status = 500;
     }
-    tc_strbuf_append(out, body->buf, body->len);
-    tc_strbuf_free(body);
+    if (!out->len && !out->oom) { /* the usual case: out becomes the body, no copy */
+        size_t len = 0, cap = body->cap;
+        char *buf = tc_strbuf_detach(body, &len);
+        tc_strbuf_adopt(out, buf, len, cap);
+    } else {
+        tc_strbuf_append(out, body->buf, body->len);
+        tc_strbuf_free(body);
+    }
     return res->status = out->oom ? 500 : 200;
 }
 

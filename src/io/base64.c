@@ -1,6 +1,8 @@
 /* base64.c — RFC 4648 base64, standard alphabet with padding, strict on input: the
  * typed arrays' "data" (io/typed.c) and the "encoding": "base64" answers (io/response.c). */
+#include <pthread.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "io/base64.h"
 
@@ -11,13 +13,23 @@ size_t tc_base64_encoded_len(size_t n) {
     return groups > SIZE_MAX / 4 ? SIZE_MAX : 4 * groups;
 }
 
+/* The two characters of each 12-bit group, built once: one lookup per 12 bits instead of
+ * per 6 halves the table work of the encoder (the typed answers' hot loop). */
+static char pairs[4096][2];
+static pthread_once_t pairs_once = PTHREAD_ONCE_INIT;
+
+static void make_pairs(void) {
+    for (int v = 0; v < 4096; v++) pairs[v][0] = alphabet[v >> 6], pairs[v][1] = alphabet[v & 63];
+}
+
 void tc_base64_encode(const void *in, size_t n, char *out) {
     const unsigned char *p = in;
     size_t i = 0;
+    pthread_once(&pairs_once, make_pairs);
     for (; i + 3 <= n; i += 3, out += 4) {
         uint32_t w = (uint32_t)p[i] << 16 | (uint32_t)p[i + 1] << 8 | p[i + 2];
-        out[0] = alphabet[w >> 18], out[1] = alphabet[w >> 12 & 63];
-        out[2] = alphabet[w >> 6 & 63], out[3] = alphabet[w & 63];
+        memcpy(out, pairs[w >> 12], 2);
+        memcpy(out + 2, pairs[w & 4095], 2);
     }
     if (i == n) return;
     uint32_t w = (uint32_t)p[i] << 16 | (i + 1 < n ? (uint32_t)p[i + 1] << 8 : 0);

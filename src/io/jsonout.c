@@ -19,21 +19,27 @@ void tc_json_numbers(tc_strbuf *b, const double *x, int n) {
     tc_strbuf_putc(b, ']');
 }
 
-void tc_json_typed(tc_strbuf *b, const double *x, const size_t *shape, int ndim) {
-    size_t count = 1;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#error "typed arrays carry the host's doubles as little-endian bytes"
+#endif
+
+void tc_json_typed_open(tc_strbuf *b, const size_t *shape, int ndim) {
     tc_strbuf_puts(b, "{\"dtype\":\"float64\",\"shape\":[");
     for (int k = 0; k < ndim; k++) {
         if (k) tc_strbuf_putc(b, ',');
         tc_strbuf_int(b, (long long)shape[k]);
-        count *= shape[k];
     }
     tc_strbuf_puts(b, "],\"data\":\"");
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-#error "tc_json_typed writes the host's doubles as little-endian bytes"
-#else
+}
+
+void tc_json_typed_close(tc_strbuf *b) { tc_strbuf_puts(b, "\"}"); }
+
+void tc_json_typed(tc_strbuf *b, const double *x, const size_t *shape, int ndim) {
+    size_t count = 1;
+    for (int k = 0; k < ndim; k++) count *= shape[k];
+    tc_json_typed_open(b, shape, ndim);
     tc_base64_append(b, x, count * sizeof *x);
-#endif
-    tc_strbuf_puts(b, "\"}");
+    tc_json_typed_close(b);
 }
 
 void tc_json_ints(tc_strbuf *b, const int32_t *x, int n) {

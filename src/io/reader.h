@@ -44,6 +44,18 @@ typedef struct {
 
 enum { TC__FAST_MAX = 8 };
 
+/* A "data" string member of a top-level object value ({"dtype", "shape", "data"}: a typed
+ * array), seen by the fast path's walk in text order. A taken one (plain bytes: no
+ * backslash, no NUL) is "" in the skeleton and read from the body's bytes instead, so cJSON
+ * neither scans nor copies the base64 (most of a typed body). */
+typedef struct {
+    size_t start, end;  /* the string's text with its quotes: the body's bytes [start, end) */
+    const cJSON *node;  /* its member in the tree */
+    int taken;
+} tc__span;
+
+enum { TC__SPAN_MAX = 16 };
+
 /* The state of one tc_request_parse: the request being filled and what was found. */
 typedef struct {
     tc_request *r;
@@ -58,6 +70,9 @@ typedef struct {
     const char *json;    /* the body as given */
     tc__fast fast[TC__FAST_MAX]; /* the arrays the fast path read, nfast of them */
     int nfast;
+    tc__span spans[TC__SPAN_MAX]; /* the "data" strings it saw, nspans of them */
+    int nspans;
+    tc_req_limits *limits; /* tc_request_parse_limited's, or NULL */
 } tc__reader;
 
 /* What a finding is, which decides the answer's status. */
@@ -119,13 +134,18 @@ int tc__rd_channel_vectors(tc__reader *rd, const cJSON *v, const tc__jpath *p, i
  * with each of their texts replaced by "[]" (*skel_len bytes), for cJSON to parse instead
  * (the caller frees it), or NULL when none was taken (parse json itself). */
 char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len, size_t *skel_len);
-/* The body's offset of the skeleton's offset pos (pos never falls inside a "[]"). */
+/* The body's offset of the skeleton's offset pos (pos never falls inside a "[]" or a taken
+ * string's ""). */
 size_t tc__rd_fast_origin(const tc__reader *rd, size_t pos);
 /* f's numbers, handed to the request as one of its arrays (f keeps none), or NULL with
  * rd->nomem set (counted by tc_request__fail_alloc_after as an allocation). */
 void *tc__rd_fast_take(tc__reader *rd, tc__fast *f);
-/* Binds the scanned arrays to their placeholder members of root. */
-void tc__rd_fast_bind(tc__reader *rd, const cJSON *root);
+/* Binds the scanned arrays and "data" strings to their members of root: 0, or -1 when the
+ * tree does not hold the strings the walk saw (then parse the body itself). */
+int tc__rd_fast_bind(tc__reader *rd, const cJSON *root);
+/* The body's text of the "data" string v when it was taken (*len bytes, no quotes), else NULL:
+ * read v->valuestring as usual. */
+const char *tc__rd_fast_data(const tc__reader *rd, const cJSON *v, size_t *len);
 void tc__rd_fast_free(tc__reader *rd);
 /* The fast array whose placeholder is v, or NULL when v is read from the tree as usual. */
 tc__fast *tc__rd_fast(tc__reader *rd, const cJSON *v);

@@ -146,6 +146,14 @@ static cJSON *parse_json(tc__reader *rd, const char *json, size_t len) {
     size_t tlen = len;
     char *skel = tc__rd_fast_scan(rd, json, len, &tlen); /* the big arrays, read here or not */
     const char *text = skel ? skel : json;
+    if (rd->limits) { /* the arrays read fast are within theirs: count the rest of the body */
+        tc_req_limits *L = rd->limits;
+        L->over = tc_prescan(text, tlen, L->lim, L->n, &L->count);
+        if (L->over >= 0) {
+            free(skel);
+            return NULL;
+        }
+    }
     end = text;
     cJSON *root = cJSON_ParseWithLengthOpts(text, tlen, &end, 0);
     size_t pos = (size_t)(end - text);
@@ -163,7 +171,12 @@ static cJSON *parse_json(tc__reader *rd, const char *json, size_t len) {
         cJSON_Delete(root);
         return NULL;
     }
-    tc__rd_fast_bind(rd, root);
+    if (tc__rd_fast_bind(rd, root)) { /* never seen: the walk and the tree disagree; be safe */
+        cJSON_Delete(root);
+        tc__rd_fast_free(rd);
+        root = cJSON_ParseWithLength(json, len);
+        if (!root) rd->nomem = 1; /* the skeleton parsed, so the body does: only memory fails */
+    }
     return root;
 }
 
@@ -172,9 +185,23 @@ int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request *
     return tc_request_parse_for(json, len, expect, 0, out, diags);
 }
 
+static int parse(const char *json, size_t len, unsigned expect, int nchan, tc_req_limits *L, tc_request **out,
+                 tc_diags *diags);
+
 int tc_request_parse_for(const char *json, size_t len, unsigned expect, int nchan, tc_request **out,
                          tc_diags *diags) {
-    tc__reader rd = {.diags = diags, .expect = expect, .nchan = nchan, .json = json};
+    return parse(json, len, expect, nchan, NULL, out, diags);
+}
+
+int tc_request_parse_limited(const char *json, size_t len, unsigned expect, tc_req_limits *L, tc_request **out,
+                             tc_diags *diags) {
+    return parse(json, len, expect, 0, L, out, diags);
+}
+
+static int parse(const char *json, size_t len, unsigned expect, int nchan, tc_req_limits *L, tc_request **out,
+                 tc_diags *diags) {
+    tc__reader rd = {.diags = diags, .expect = expect, .nchan = nchan, .json = json, .limits = L};
+    if (L) L->over = -1, L->count = 0;
     *out = NULL;
     tc_request *r = tc__rd_injected_failure() ? NULL : calloc(1, sizeof *r);
     if (!r) {
@@ -186,6 +213,11 @@ int tc_request_parse_for(const char *json, size_t len, unsigned expect, int ncha
     r->format = -1;
     rd.r = r;
     cJSON *root = parse_json(&rd, json, len);
+    if (L && L->over >= 0) { /* refused before any tree was built */
+        tc__rd_fast_free(&rd);
+        tc_request_free(r);
+        return TC_REQ_OVER_LIMIT;
+    }
     if (root) {
         tc__rd_expand_nested(&rd, root); /* typed arrays inside per-entry fields, as JSON */
         if (!rd.nomem) read_request(&rd, root);

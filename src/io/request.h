@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 
+#include "io/prescan.h"
 #include "tocher.h"
 
 /* Which parts a caller expects (bit flags for tc_request_parse's `expect`). */
@@ -15,7 +16,8 @@ typedef enum {
     TC_REQ_OK = 0,
     TC_REQ_MALFORMED = 1, /* not JSON, or wrong JSON types/shapes, missing field -> HTTP 400 */
     TC_REQ_INVALID = 2,   /* well-formed JSON whose values are invalid -> HTTP 422 */
-    TC_REQ_NOMEM = 3      /* an allocation failed -> HTTP 500/503 */
+    TC_REQ_NOMEM = 3,     /* an allocation failed -> HTTP 500/503 */
+    TC_REQ_OVER_LIMIT = 4 /* tc_request_parse_limited: an array over its limit -> HTTP 413 */
 } tc_req_status;
 
 /* Most reconstructions one /v1/compare request may ask for. */
@@ -73,6 +75,21 @@ int tc_request_parse(const char *json, size_t len, unsigned expect, tc_request *
  * says it did; the caller refuses it). nchan = 0: tc_request_parse. */
 int tc_request_parse_for(const char *json, size_t len, unsigned expect, int nchan, tc_request **out,
                          tc_diags *diags);
+/* The limits tc_request_parse_limited checks (io/prescan.h's), and its finding. */
+typedef struct {
+    const tc_scan_limit *lim;
+    int n;
+    int over;      /* out: the index of the first limit passed, in text order, or -1 */
+    int64_t count; /* out: that array's full element count */
+} tc_req_limits;
+
+/* tc_request_parse, refusing first (TC_REQ_OVER_LIMIT, *out NULL, nothing in diags) a body
+ * whose limited arrays hold more elements than L allows: the same answer as tc_prescan on the
+ * body, found in one walk with the fast path's (io/request_fast.c): the arrays it reads are
+ * counted there and left to the prescan once over their limit (so no array over a limit is
+ * ever converted), and the prescan walks only the skeleton, the rest of the body. */
+int tc_request_parse_limited(const char *json, size_t len, unsigned expect, tc_req_limits *L, tc_request **out,
+                             tc_diags *diags);
 void tc_request_free(tc_request *r);
 
 /* For tests only: make the n-th following allocation (1-based) of the reader on
@@ -84,5 +101,7 @@ void tc_request__fail_alloc_after(long n);
 void tc_request__fast_arrays(int on);
 /* For tests only: how many arrays the last successful parse on this thread read fast. */
 int tc_request__fast_taken(void);
+/* Test hook: typed arrays' "data" strings the last parse read from the body (not cJSON). */
+int tc_request__fast_spans(void);
 
 #endif /* TC_IO_REQUEST_H */

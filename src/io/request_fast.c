@@ -27,15 +27,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/hugemem.h"
 #include "io/reader.h"
 #include "io/strtod_fast.h"
 
 static _Thread_local int fast_off; /* test hook: 1 = every array through cJSON */
 
 static _Thread_local int last_taken; /* test hook: arrays read fast by the last parse */
+static _Thread_local int last_spans; /* test hook: "data" strings read from the body */
 
 void tc_request__fast_arrays(int on) { fast_off = !on; }
 int tc_request__fast_taken(void) { return last_taken; }
+int tc_request__fast_spans(void) { return last_spans; }
 
 /* The fields whose readers (request_mesh.c) accept a fast array. */
 static const char *const fast_keys[] = {"vertices", "triangles", "quads", "values",
@@ -71,7 +74,7 @@ static int number(scan *sc) {
         return -1; /* longer than cJSON's buffer, or "1.5.2": not ours */
     if (sc->count == sc->cap) {
         size_t cap = sc->cap ? 2 * sc->cap : 4096;
-        double *p = realloc(sc->data, cap * sizeof *p);
+        double *p = tc__huge_realloc(sc->data, cap * sizeof *p);
         if (!p) return sc->nomem = 1, -1;
         sc->data = p, sc->cap = cap;
     }
@@ -125,8 +128,9 @@ static int entry(scan *sc, int *d1, int *d2) {
     return 0;
 }
 
-/* The array at i (at its '['): 0 and f filled, or -1 (sc->data freed either way on failure). */
-static int array(scan *sc, tc__fast *f) {
+/* The array at i (at its '['): 0 and f filled, or -1 (sc->data freed either way on failure).
+ * max > 0: -1 as soon as it has more entries (left to the prescan, which reports it). */
+static int array(scan *sc, tc__fast *f, int64_t max) {
     f->start = sc->i++;
     sc->data = NULL, sc->count = sc->cap = 0;
     ws(sc);
@@ -136,6 +140,7 @@ static int array(scan *sc, tc__fast *f) {
         int e1, e2;
         if (entry(sc, &e1, &e2) || (n && (e1 != d1 || e2 != d2))) goto fail;
         d1 = e1, d2 = e2, n++;
+        if (max > 0 && (int64_t)n > max) goto fail;
         ws(sc);
         if (at(sc, ']')) break;
         if (!at(sc, ',')) goto fail;
@@ -168,19 +173,35 @@ static int string(scan *sc, int *escaped) {
     return -1;
 }
 
+/* Skips a string at its opening quote when its bytes do not matter (a value skip_value
+ * passes over): the same end as string()'s byte loop, the first '"' after an even run of
+ * backslashes, found with memchr at memory speed (a typed array's base64 data is most of
+ * its body). -1 if unterminated. */
+static int skip_string(scan *sc) {
+    size_t i = sc->i + 1;
+    for (size_t from = i; from < sc->len;) {
+        const char *q = memchr(sc->s + from, '"', sc->len - from);
+        if (!q) break;
+        size_t at = (size_t)(q - sc->s), k = at;
+        while (k > i && sc->s[k - 1] == '\\') k--;
+        if ((at - k) % 2 == 0) return sc->i = at + 1, 0;
+        from = at + 1;
+    }
+    return -1;
+}
+
 /* Skips any value at i the way a JSON parser delimits it (a string, a balanced container with
  * the strings in it, or a scalar up to the next delimiter); -1 when it cannot tell where the
  * value ends. Values it skips are cJSON's to judge. */
 static int skip_value(scan *sc) {
-    int esc;
     size_t from = sc->i;
-    if (at(sc, '"')) return string(sc, &esc);
+    if (at(sc, '"')) return skip_string(sc);
     if (at(sc, '[') || at(sc, '{')) {
         int depth = 0;
         while (sc->i < sc->len) {
             char c = sc->s[sc->i];
             if (c == '"') {
-                if (string(sc, &esc)) return -1;
+                if (skip_string(sc)) return -1;
                 continue;
             }
             sc->i++;
@@ -193,16 +214,82 @@ static int skip_value(scan *sc) {
     return sc->i > from ? 0 : -1;
 }
 
+/* The object value at i (at its '{'), one level deep: each "data" member whose value is a
+ * string is recorded in rd->spans, taken when its bytes are plain (no backslash, so cJSON's
+ * string is these bytes; no NUL, which would end cJSON's C string early); other values are
+ * skipped. Strict like the top-level walk: -1 on anything else (a key with an escape, more
+ * than TC__SPAN_MAX strings), and the whole fast path gives up. */
+static int object_value(scan *sc, tc__reader *rd) {
+    int esc;
+    sc->i++;
+    ws(sc);
+    if (at(sc, '}')) return sc->i++, 0;
+    for (;;) {
+        if (!at(sc, '"')) return -1;
+        size_t k0 = sc->i + 1;
+        if (string(sc, &esc) || esc) return -1;
+        int is_data = sc->i - 1 - k0 == 4 && !memcmp(sc->s + k0, "data", 4);
+        ws(sc);
+        if (!at(sc, ':')) return -1;
+        sc->i++;
+        ws(sc);
+        if (is_data && at(sc, '"')) {
+            if (rd->nspans == TC__SPAN_MAX) return -1;
+            tc__span *sp = &rd->spans[rd->nspans++];
+            sp->start = sc->i;
+            if (skip_string(sc)) return -1;
+            sp->end = sc->i;
+            size_t n = sp->end - sp->start - 2;
+            const char *t = sc->s + sp->start + 1;
+            sp->taken = !memchr(t, '\\', n) && !memchr(t, '\0', n);
+            sp->node = NULL;
+        } else if (skip_value(sc)) {
+            return -1;
+        }
+        ws(sc);
+        if (at(sc, '}')) return sc->i++, 0;
+        if (!at(sc, ',')) return -1;
+        sc->i++;
+        ws(sc);
+    }
+}
+
+/* The limit tc_request_parse_limited puts on the top-level array `key`; 0: none. */
+static int64_t limit_of(const tc__reader *rd, const char *key) {
+    for (int k = 0; rd->limits && k < rd->limits->n; k++)
+        if (rd->limits->lim[k].max > 0 && !strcmp(rd->limits->lim[k].path, key)) return rd->limits->lim[k].max;
+    return 0;
+}
+
 static void drop(tc__reader *rd) {
     for (int k = 0; k < rd->nfast; k++) free(rd->fast[k].data);
     rd->nfast = 0;
+    rd->nspans = 0;
+}
+
+/* The text cut out of the body for the skeleton: [start, end) becomes its first and last
+ * byte ("[]" of a fast array, "\"\"" of a taken string). In text order. */
+typedef struct {
+    size_t start, end;
+} cut;
+
+/* The cuts of rd's fast arrays and taken strings, merged in text order; their count. */
+static int cuts_of(const tc__reader *rd, cut *out) {
+    int n = 0, a = 0, b = 0;
+    for (;;) {
+        while (b < rd->nspans && !rd->spans[b].taken) b++;
+        int use_a = a < rd->nfast && (b == rd->nspans || rd->fast[a].start < rd->spans[b].start);
+        if (use_a) out[n++] = (cut){rd->fast[a].start, rd->fast[a].end}, a++;
+        else if (b < rd->nspans) out[n++] = (cut){rd->spans[b].start, rd->spans[b].end}, b++;
+        else return n;
+    }
 }
 
 char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len, size_t *skel_len) {
     scan sc = {.s = json, .len = len};
     int seen[NKEYS] = {0}, esc;
-    rd->nfast = 0;
-    last_taken = 0;
+    rd->nfast = rd->nspans = 0;
+    last_taken = last_spans = 0;
     if (fast_off || !json) return NULL;
     ws(&sc);
     if (!at(&sc, '{')) return NULL;
@@ -224,13 +311,13 @@ char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len, size_t *ske
         if (key >= 0 && seen[key]++) goto fail; /* given twice: cJSON's tree decides, not us */
         size_t at_value = sc.i;
         tc__fast *f = &rd->fast[rd->nfast];
-        if (key >= 0 && at(&sc, '[') && !array(&sc, f)) {
+        if (key >= 0 && at(&sc, '[') && !array(&sc, f, limit_of(rd, fast_keys[key]))) {
             f->key = fast_keys[key];
             rd->nfast++;
         } else {
             if (sc.nomem) goto fail;
             sc.i = at_value;
-            if (skip_value(&sc)) goto fail;
+            if (at(&sc, '{') ? object_value(&sc, rd) : skip_value(&sc)) goto fail;
         }
         ws(&sc);
         if (at(&sc, '}')) break;
@@ -238,42 +325,67 @@ char *tc__rd_fast_scan(tc__reader *rd, const char *json, size_t len, size_t *ske
         sc.i++;
         ws(&sc);
     }
-    if (!rd->nfast) return NULL;
-    size_t cut = 0; /* the skeleton: the body with each array's text replaced by "[]" */
-    for (int k = 0; k < rd->nfast; k++) cut += rd->fast[k].end - rd->fast[k].start - 2;
-    char *skel = malloc(len - cut), *w = skel;
+    cut cuts[TC__FAST_MAX + TC__SPAN_MAX];
+    int ncuts = cuts_of(rd, cuts);
+    if (!ncuts) {
+        rd->nspans = 0; /* nothing taken: cJSON reads the body, every string included */
+        return NULL;
+    }
+    size_t removed = 0; /* the skeleton: the body with each cut's text replaced by its ends */
+    for (int k = 0; k < ncuts; k++) removed += cuts[k].end - cuts[k].start - 2;
+    char *skel = malloc(len - removed), *w = skel;
     if (!skel) goto fail;
     size_t from = 0;
-    for (int k = 0; k < rd->nfast; k++) { /* in text order: the walk found them so */
-        const tc__fast *f = &rd->fast[k];
-        memcpy(w, json + from, f->start - from);
-        w += f->start - from;
-        *w++ = '[', *w++ = ']';
-        from = f->end;
+    for (int k = 0; k < ncuts; k++) {
+        memcpy(w, json + from, cuts[k].start - from);
+        w += cuts[k].start - from;
+        *w++ = json[cuts[k].start], *w++ = json[cuts[k].end - 1];
+        from = cuts[k].end;
     }
     memcpy(w, json + from, len - from);
-    *skel_len = len - cut;
+    *skel_len = len - removed;
     return skel;
 fail:
     drop(rd);
     return NULL;
 }
 
-void tc__rd_fast_bind(tc__reader *rd, const cJSON *root) {
-    last_taken = 0;
-    if (!root || !tc__json_is(root, cJSON_Object)) return;
+int tc__rd_fast_bind(tc__reader *rd, const cJSON *root) {
+    last_taken = last_spans = 0;
+    if (!root || !tc__json_is(root, cJSON_Object)) return rd->nspans ? -1 : 0;
     for (const cJSON *m = root->child; m; m = m->next)
         for (int k = 0; k < rd->nfast; k++)
             if (m->string && !strcmp(m->string, rd->fast[k].key) && tc__json_is(m, cJSON_Array) && !m->child)
                 if (!rd->fast[k].node) rd->fast[k].node = m, last_taken++;
+    /* The walk saw, in text order, every "data" string member of every top-level object
+     * value; the tree holds them in the same order (cJSON keeps members as written). */
+    int k = 0;
+    for (const cJSON *m = root->child; m; m = m->next)
+        for (const cJSON *c = tc__json_is(m, cJSON_Object) ? m->child : NULL; c; c = c->next)
+            if (c->string && !strcmp(c->string, "data") && tc__json_is(c, cJSON_String)) {
+                if (k == rd->nspans) return -1;
+                rd->spans[k].node = c;
+                last_spans += rd->spans[k++].taken;
+            }
+    return k == rd->nspans ? 0 : -1;
+}
+
+const char *tc__rd_fast_data(const tc__reader *rd, const cJSON *v, size_t *len) {
+    for (int k = 0; v && k < rd->nspans; k++)
+        if (rd->spans[k].node == v && rd->spans[k].taken) {
+            *len = rd->spans[k].end - rd->spans[k].start - 2;
+            return rd->json + rd->spans[k].start + 1;
+        }
+    return NULL;
 }
 
 size_t tc__rd_fast_origin(const tc__reader *rd, size_t pos) {
-    size_t shift = 0; /* bytes the arrays before pos lost to their "[]" */
-    for (int k = 0; k < rd->nfast; k++) {
-        const tc__fast *f = &rd->fast[k];
-        if (pos < f->start - shift + 2) break; /* before this array, or on its "[]" */
-        shift += f->end - f->start - 2;
+    cut cuts[TC__FAST_MAX + TC__SPAN_MAX];
+    int n = cuts_of(rd, cuts);
+    size_t shift = 0; /* bytes the cuts before pos lost */
+    for (int k = 0; k < n; k++) {
+        if (pos < cuts[k].start - shift + 2) break; /* before this cut, or on its two bytes */
+        shift += cuts[k].end - cuts[k].start - 2;
     }
     return pos + shift;
 }

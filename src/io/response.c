@@ -1,10 +1,13 @@
 /* response.c — JSON writers for the core's results. Numbers go through
  * tc_strbuf_double so every double parses back to itself. */
 #include "io/response.h"
+#include "io/base64.h"
 #include "io/jsonout.h"
+#include "io/numfmt.h"
 #include "core/alloc.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,32 +15,81 @@ static void member(tc_strbuf *b, const char *name) { tc_json_key(b, ",", name); 
 
 void tc_json_ordinates(tc_strbuf *b, const tc_recon *r) { tc_json_ordinates_enc(b, r, 0); }
 
-/* "ordinates" as one typed array [T][C][K] in the request's numbering. */
+/* Rows (triangles) staged per base64 chunk: a multiple of 3, so that every chunk but the
+ * last is a whole number of 3-byte groups and the chunks' texts join into the one text. */
+enum { STAGE_ROWS = 3 * 128 };
+
+/* The rows of given triangles [i0, i1) as the typed array's bytes: each kept triangle's
+ * coefficients, NaN for a dropped one. */
+static void stage_rows(const tc_recon *r, size_t i0, size_t i1, size_t row, double *x) {
+    const tc_mesh *m = tc_recon_mesh(r);
+    const double *coef = tc_recon_coefs(r);
+    for (size_t i = i0; i < i1; i++, x += row) {
+        int32_t t = tc_mesh_triangle_of_given(m, (int32_t)i);
+        if (t < 0) {
+            for (size_t k = 0; k < row; k++) x[k] = NAN;
+        } else {
+            memcpy(x, coef + (size_t)t * row, row * sizeof *x); /* row t: [C][K], tc__ix's layout */
+        }
+    }
+}
+
+/* 1 when given triangle i is kept triangle i for every i: the coefficient array is then
+ * the typed array's bytes as they are. */
+static int identity_numbering(const tc_mesh *m, size_t ngiven) {
+    for (size_t i = 0; i < ngiven; i++)
+        if (tc_mesh_triangle_of_given(m, (int32_t)i) != (int32_t)i) return 0;
+    return 1;
+}
+
+/* "ordinates" as one typed array [T][C][K] in the request's numbering, encoded straight
+ * into b (its exact size reserved first): no copy of the coefficients is made, except a
+ * small staging block per chunk when triangles were dropped or renumbered. */
 static void typed_ordinates(tc_strbuf *b, const tc_recon *r) {
     const tc_mesh *m = tc_recon_mesh(r);
     size_t nc = (size_t)tc_mesh_channel_count(m), nk = (size_t)tc_recon_coef_count(r);
     size_t ngiven = (size_t)tc_mesh_given_triangle_count(m), row = nc * nk;
-    double *x = malloc((ngiven ? ngiven : 1) * row * sizeof *x);
-    if (!x) {
+    const size_t shape[3] = {ngiven, nc, nk};
+    size_t bytes = ngiven * row * sizeof(double), text = tc_base64_encoded_len(bytes);
+    if (text == SIZE_MAX || tc_strbuf_reserve(b, text + 128)) { /* + the typed array's frame */
         b->oom = 1;
         return;
     }
-    const double *coef = tc_recon_coefs(r);
-    for (size_t i = 0; i < ngiven; i++) {
-        int32_t t = tc_mesh_triangle_of_given(m, (int32_t)i);
-        for (size_t ch = 0; ch < nc; ch++)
-            for (size_t k = 0; k < nk; k++)
-                x[i * row + ch * nk + k] = t < 0 ? NAN : coef[tc__ix(t, (long)nc, (long)ch) * nk + k];
+    tc_json_typed_open(b, shape, 3);
+    if (identity_numbering(m, ngiven)) {
+        tc_base64_append(b, tc_recon_coefs(r), bytes);
+    } else {
+        double *x = malloc(STAGE_ROWS * row * sizeof *x);
+        if (!x) {
+            b->oom = 1;
+            return;
+        }
+        for (size_t i = 0; i < ngiven && !b->oom; i += STAGE_ROWS) {
+            size_t n = ngiven - i < STAGE_ROWS ? ngiven - i : STAGE_ROWS;
+            stage_rows(r, i, i + n, row, x);
+            tc_base64_append(b, x, n * row * sizeof *x);
+        }
+        free(x);
     }
-    const size_t shape[3] = {ngiven, nc, nk};
-    tc_json_typed(b, x, shape, 3);
-    free(x);
+    tc_json_typed_close(b);
+}
+
+/* Bytes the JSON form of the ordinates takes at most: per given triangle ",\n[" "]" and
+ * per channel "[" "]" "," and per number its text (TC_FMT_DOUBLE_SIZE bounds it) and ",".
+ * Reserving it first saves the doublings of a growing buffer (each a fresh block whose
+ * pages fault in, and a copy); the untouched tail of an over-estimate costs no memory. */
+static size_t json_ordinates_bound(size_t ngiven, size_t nc, size_t nk) {
+    size_t per_row = 4 + nc * (3 + nk * TC_FMT_DOUBLE_SIZE);
+    return ngiven > (SIZE_MAX - 16) / per_row ? SIZE_MAX : ngiven * per_row + 16;
 }
 
 void tc_json_ordinates_enc(tc_strbuf *b, const tc_recon *r, int base64) {
     const tc_mesh *m = tc_recon_mesh(r);
     int nc = tc_mesh_channel_count(m), nk = tc_recon_coef_count(r);
     int32_t ngiven = tc_mesh_given_triangle_count(m);
+    /* All of it at once, the small members before the numbers included (typed_ordinates
+     * reserves its exact size itself). */
+    if (!base64 && tc_strbuf_reserve(b, 4096 + json_ordinates_bound((size_t)ngiven, (size_t)nc, (size_t)nk))) return;
     tc_json_options(b, tc_recon_options(r));
     member(b, "channels");
     tc_strbuf_int(b, nc);

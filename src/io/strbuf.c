@@ -8,9 +8,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/hugemem.h"
 #include "io/numfmt.h"
 
 #define TC_STRBUF_MIN_CAP 64
+
+static _Thread_local long grows; /* test hook: reallocations so far in this thread */
+
+long tc_strbuf__grows(void) { return grows; }
 
 void tc_strbuf_init(tc_strbuf *b) {
     b->buf = NULL;
@@ -36,11 +41,12 @@ static int grow(tc_strbuf *b, size_t n) {
     size_t need = b->len + n + 1;
     size_t cap = b->cap ? b->cap : TC_STRBUF_MIN_CAP;
     while (cap < need) cap = cap > SIZE_MAX / 2 ? need : 2 * cap;
-    char *p = realloc(b->buf, cap);
+    char *p = tc__huge_realloc(b->buf, cap); /* a big answer: huge pages, few faults */
     if (!p) goto fail;
     if (!b->cap) p[0] = '\0';
     b->buf = p;
     b->cap = cap;
+    grows++;
     return 0;
 fail:
     b->oom = 1;

@@ -46,4 +46,7 @@ char *tc_strbuf_detach(tc_strbuf *b, size_t *len);
  * produced elsewhere (an encoded image) becomes the response without a copy. */
 void tc_strbuf_adopt(tc_strbuf *b, char *buf, size_t len, size_t cap);
 
+/* Test hook: how many times a buffer grew (a reallocation) in this thread so far. */
+long tc_strbuf__grows(void);
+
 #endif

@@ -103,8 +103,8 @@ static int read_data(tc__reader *rd, const cJSON *v, const tc__jpath *p, tc__typ
                            v ? tc__json_kind(v) : "nothing (a typed array needs dtype, shape and data)");
         return -1;
     }
-    t->data = v->valuestring;
-    t->data_len = strlen(v->valuestring);
+    t->data = tc__rd_fast_data(rd, v, &t->data_len); /* the body's bytes, when the fast path took them */
+    if (!t->data) t->data = v->valuestring, t->data_len = strlen(v->valuestring);
     return 0;
 }
 

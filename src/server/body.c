@@ -6,6 +6,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "io/hugemem.h"
 #include "server/body.h"
 
 enum { FIRST_CHUNK = 64 * 1024 };
@@ -29,7 +30,7 @@ static int grow(tc_body *b, size_t need) {
     while (cap <= need) cap = cap > SIZE_MAX / 2 ? SIZE_MAX : cap * 2;
     size_t most = b->expect >= need ? b->expect : b->limit;
     if (cap > most + 1) cap = most + 1;
-    char *p = realloc(b->buf, cap);
+    char *p = tc__huge_realloc(b->buf, cap); /* a big body: huge pages, few faults */
     if (!p) return -1;
     b->buf = p, b->cap = cap;
     return 0;

@@ -112,3 +112,29 @@ TEST(prescan_typed_arrays_count_their_shape) {
     CHECK(scan("{\"triangles\":{\"dtype\":\"int32\",\"shape\":[3,3]}}", &n) == 1);
     CHECK(n == 3);
 }
+
+/* Strings are skipped by their closing quote (memchr) and the run of backslashes before it:
+ * an even run ends the string, an odd one escapes the quote. Text that only looks like a
+ * limited array inside a string is never counted; a long base64-like string is skipped. */
+TEST(prescan_strings_end_at_an_unescaped_quote) {
+    int64_t n;
+    CHECK(scan("{\"a\":\"x\\\\\",\"points\":[1,2,3]}", &n) == 2); /* "x\\": the quote ends it */
+    CHECK(n == 3);
+    CHECK(scan("{\"a\":\"x\\\\\\\",\\\"points\\\":[1,2,3]\"}", &n) == -1); /* "x\\\"...: escaped */
+    CHECK(scan("{\"a\":\"\\\"\\\"\",\"points\":[1,2,3,4]}", &n) == 2);
+    CHECK(n == 4);
+    CHECK(scan("{\"points\":[\"\\\\\\\\\",\"],[\",\"\\\"\"]}", &n) == 2); /* three strings */
+    CHECK(n == 3);
+    CHECK(scan("{\"a\":\"never closed \\\\\\\" [1,2,3]", &n) == -1);
+    CHECK(scan("{\"points\":[1,\"open", &n) == -1);
+    size_t big = 1 << 20;
+    char *s = malloc(big + 64);
+    if (!s) return;
+    strcpy(s, "{\"data\":\"");
+    size_t k = strlen(s);
+    for (size_t i = 0; i < big; i++) s[k++] = "AB+/\\\\"[i % 4]; /* no quote: letters and '/' */
+    strcpy(s + k, "\",\"points\":[1,2,3]}");
+    CHECK(tc_prescan(s, strlen(s), LIMITS, NL, &n) == 2);
+    CHECK(n == 3);
+    free(s);
+}

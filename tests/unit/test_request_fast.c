@@ -227,3 +227,95 @@ TEST(request_fast_bad_input_same_findings) {
     CHECK_MSG(ok >= 5 && ok <= 25, "%d of the bodies accepted", ok);
     CHECK_MSG(taken >= 15, "the fast path took arrays in only %d bodies", taken);
 }
+
+/* Typed arrays' "data" strings read from the body (not copied by cJSON) give what cJSON's
+ * strings give: the same request, the same findings (bad base64 at the same character, wrong
+ * length, syntax errors after them at the same line and column), and strings with an escape
+ * or a \u0000 are left to cJSON. */
+TEST(fast_typed_data_strings_agree) {
+    static const char *const V = "{\"dtype\":\"float64\",\"shape\":[3,2],\"data\":\"AAAAAAAAAAAAAAAAAADwPwAAAAAAAAAAAAAAAAAAAAAAAAAAAADwPw==\"}";
+    static const char *const T = "{\"dtype\":\"int32\",\"shape\":[1,3],\"data\":\"AAAAAAEAAAACAAAA\"}";
+    static const struct {
+        const char *vertices, *values, *tail;
+        int spans; /* strings the fast path reads from the body */
+    } cases[] = {
+        {NULL, "[1,2,3]", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}", "", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAA*AAAAQAAAAAAAAAhA\"}", "", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQA==\"}", "", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}", ",\"x\":[1,}", 0},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}",
+         ",\n  \"method\": \"nope\"", 3},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAh\\/\"}", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAA\\u0000AAAAAhA\"}", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\",\"shape\":[3],\"data\":\"AAAA\"}", "", 4},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":7}", "", 2},
+        {"{\"dtype\":\"float64\",\"shape\":[3,2],\"data\":\"\"}", "[1,2,3]", "", 2},
+        {NULL, "{\"dtype\":\"float64\",\"shape\":[3],\"data\":\"AAAAAAAA8D8AAAAAAAAAQAAAAAAAAAhA\"}",
+         ",\n \"x\": tru", 0}, /* the skeleton's syntax error, mapped back past the cuts */
+        {NULL, "[1,2,3]", ",\"reference\":{\"points\":{\"dtype\":\"float64\",\"shape\":[1,2],\"data\":\"AAAAAAAAAAAAAAAAAAAAAA==\"}}", 2},
+    };
+    char body[1024];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(body, sizeof body, "{\"vertices\":%s,\n\"triangles\":%s,\"values\":%s%s}",
+                 cases[i].vertices ? cases[i].vertices : V, T, cases[i].values, cases[i].tail);
+        agree(body, TC_REQ_MESH);
+        outcome o = parse(body, strlen(body), TC_REQ_MESH, 1);
+        CHECK_MSG(tc_request__fast_spans() == cases[i].spans, "case %zu: %d strings read from the body, expected %d",
+                  i, tc_request__fast_spans(), cases[i].spans);
+        free(o.findings), free(o.canon);
+    }
+}
+
+/* The limits checked in the fast path's walk (tc_request_parse_limited) refuse exactly what
+ * tc_prescan on the whole body refuses: the same first array over, the same full count, and
+ * the same request otherwise. Random requests (with odd entries the fast path leaves to the
+ * prescan), random limits, and typed or JSON arrays over them in either order. */
+TEST(request_fast_limits_equal_prescan) {
+    uint64_t st = 0x51ab5eedULL ^ tc_test_seed();
+    for (int it = 0; it < 300; it++) {
+        int nv = 1 + (int)(xs(&st) % 40);
+        char *json = random_request(&st, nv, (int)(it & 1));
+        tc_scan_limit L[] = {{"vertices", (int64_t)(xs(&st) % 50)}, {"triangles", (int64_t)(xs(&st) % 80)},
+                             {"quads", 0}, {"points", (int64_t)(xs(&st) % 30)}, {"reference.points", 3}};
+        int64_t n_pre = -1;
+        int k_pre = tc_prescan(json, strlen(json), L, 5, &n_pre);
+        tc_req_limits rl = {L, 5, -2, -2};
+        tc_request *r = NULL;
+        tc_diags d;
+        tc_diags_init(&d);
+        int rs = tc_request_parse_limited(json, strlen(json), TC_REQ_MESH, &rl, &r, &d);
+        CHECK_MSG(rl.over == k_pre && (k_pre < 0 || rl.count == n_pre), "limit %d (%lld) vs prescan %d (%lld): %.200s",
+                  rl.over, (long long)rl.count, k_pre, (long long)n_pre, json);
+        CHECK((rs == TC_REQ_OVER_LIMIT) == (k_pre >= 0) && (rs != TC_REQ_OVER_LIMIT || (!r && d.count == 0)));
+        if (k_pre < 0) { /* within the limits: the request of tc_request_parse */
+            outcome o = parse(json, strlen(json), TC_REQ_MESH, 1);
+            CHECK(o.status == rs);
+            free(o.findings), free(o.canon);
+        }
+        tc_request_free(r);
+        tc_diags_free(&d);
+        free(json);
+    }
+    static const char *const bodies[] = {
+        "{\"vertices\":[[0,0],[1,0],[0,1]],\"triangles\":[[0,1,2],[0,1,2]],\"values\":[1,2,3]}",
+        "{\"triangles\":[[0,1,2],[0,1,2]],\"vertices\":[[0,0],[1,0],[0,1]],\"values\":[1,2,3]}",
+        "{\"triangles\":{\"dtype\":\"int32\",\"shape\":[2,3],\"data\":\"AAAAAAEAAAACAAAAAAAAAAEAAAACAAAA\"},"
+        "\"vertices\":[[0,0],[1,0],[0,1]],\"values\":[1,2,3]}",
+        "{\"vertices\":[[0,0],[1,0],[0,1]],\"triangles\":{\"dtype\":\"int32\",\"shape\":[2,3],"
+        "\"data\":\"AAAAAAEAAAACAAAAAAAAAAEAAAACAAAA\"},\"values\":[1,2,3]}",
+        "{\"vertices\":[[0,0],[1,0],[0,1],[\"x\"]],\"triangles\":[[0,1,2],[0,1,2]],\"values\":[1,2,3]}",
+    };
+    const tc_scan_limit L2[] = {{"vertices", 2}, {"triangles", 1}};
+    for (size_t i = 0; i < sizeof bodies / sizeof bodies[0]; i++) {
+        int64_t n_pre = -1;
+        int k_pre = tc_prescan(bodies[i], strlen(bodies[i]), L2, 2, &n_pre);
+        tc_req_limits rl = {L2, 2, -2, -2};
+        tc_request *r = NULL;
+        CHECK(tc_request_parse_limited(bodies[i], strlen(bodies[i]), TC_REQ_MESH, &rl, &r, NULL) == TC_REQ_OVER_LIMIT);
+        CHECK_MSG(k_pre >= 0 && rl.over == k_pre && rl.count == n_pre, "body %zu: %d (%lld) vs prescan %d (%lld)", i,
+                  rl.over, (long long)rl.count, k_pre, (long long)n_pre);
+        CHECK_MSG(tc_request__fast_taken() == 0, "body %zu: an array over its limit was read", i);
+        tc_request_free(r);
+    }
+}

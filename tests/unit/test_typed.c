@@ -435,3 +435,85 @@ TEST(typed_request_out_of_memory) {
     CHECK(ok == 1 && nomem >= 15);
     free(t);
 }
+
+/* A grid of n x n cells (2 n^2 triangles) with C channels of 17-digit values, plus
+ * `ndrop` collinear triangles (dropped: "degenerate": "drop") spread over the list, so the
+ * typed answer's rows are renumbered across several of its staging chunks. */
+static char *grid_body(int n, int C, int ndrop, int base64) {
+    tc_strbuf b;
+    tc_strbuf_init(&b);
+    tc_strbuf_puts(&b, "{\"vertices\":[");
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++)
+            tc_strbuf_printf(&b, "%s[%d,%d]", i || j ? "," : "", i, j);
+    tc_strbuf_puts(&b, "],\"triangles\":[");
+    int ntri = 2 * n * n, k = 0, every = ndrop ? ntri / ndrop : 0;
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            int v = j * (n + 1) + i;
+            for (int h = 0; h < 2; h++, k++) {
+                if (every && k % every == every / 2) tc_strbuf_puts(&b, k ? ",[0,1,2]" : "[0,1,2]"); /* y = 0: collinear */
+                tc_strbuf_printf(&b, "%s[%d,%d,%d]", k || (every && every / 2 == 0) ? "," : "", v, h ? v + n + 2 : v + 1,
+                                 h ? v + n + 1 : v + n + 2);
+            }
+        }
+    tc_strbuf_puts(&b, "],\"values\":[");
+    for (int v = 0; v < (n + 1) * (n + 1); v++) {
+        tc_strbuf_puts(&b, v ? ",[" : "[");
+        for (int c = 0; c < C; c++) tc_strbuf_printf(&b, "%s%.17g", c ? "," : "", -1.2345678901234567e-7 * (v + 1) / (c + 3));
+        tc_strbuf_putc(&b, ']');
+    }
+    tc_strbuf_printf(&b, "],\"degenerate\":\"drop\"%s}", base64 ? ",\"encoding\":\"base64\"" : "");
+    return tc_strbuf_detach(&b, NULL);
+}
+
+/* The typed ordinates are encoded straight from the coefficients (every triangle kept) or
+ * through staging chunks (dropped ones renumber the rows): both are the JSON form's doubles
+ * bit for bit, over many chunks, 1 and 2 channels. */
+TEST(typed_ordinates_chunked_equal_json) {
+    for (int C = 1; C <= 2; C++)
+        for (int ndrop = 0; ndrop <= 5; ndrop += 5) {
+            char *j = grid_body(24, C, ndrop, 0), *t = grid_body(24, C, ndrop, 1);
+            cJSON *rj = answer(200, j, 1), *rt = answer(200, t, 1);
+            free(j), free(t);
+            size_t T = 2 * 24 * 24 + (size_t)ndrop, K = 19, n = 0;
+            size_t shape[3] = {T, (size_t)C, K};
+            double *x = rt ? typed_member(rt, "ordinates", shape, 3, &n) : NULL;
+            double *y = calloc(T * (size_t)C * K, sizeof *y);
+            size_t k = rj ? flatten(cJSON_GetObjectItem(rj, "ordinates"), y, 0, (int)((size_t)C * K)) : 0;
+            CHECK_MSG(x && k == n && n == T * (size_t)C * K, "C %d drop %d: typed ordinates of another size", C, ndrop);
+            int bad = 0, nan_rows = 0;
+            for (size_t i = 0; x && i < n && i < k; i++) bad += !same(x[i], y[i]);
+            for (size_t i = 0; x && i < T; i++) nan_rows += isnan(x[i * (size_t)C * K]);
+            CHECK_MSG(!bad, "C %d drop %d: %d ordinates differ", C, ndrop, bad);
+            CHECK_MSG(nan_rows == ndrop, "C %d: %d NaN rows, %d dropped", C, nan_rows, ndrop);
+            free(x), free(y);
+            cJSON_Delete(rj), cJSON_Delete(rt);
+        }
+}
+
+/* The JSON answer's size is reserved before the numbers are printed (bounded from T x C x K):
+ * the buffer grows a few times, not once per doubling of a ~1 MB answer. */
+TEST(ordinates_answer_reserved_once) {
+    char *j = grid_body(24, 2, 5, 0);
+    tc_strbuf out;
+    tc_api_result res;
+    tc_api_result_init(&res);
+    tc_strbuf_init(&out);
+    long g0 = tc_strbuf__grows();
+    CHECK(tc_api_ordinates(j, strlen(j), NULL, &out, &res) == 200);
+    long grew = tc_strbuf__grows() - g0;
+    CHECK_MSG(out.len > 500000, "answer of %zu bytes", out.len);
+    CHECK_MSG(grew <= 3, "the answer's buffer grew %ld times", grew);
+    /* The same answer appended after other content (no hand-over): the same bytes. */
+    tc_strbuf pre;
+    tc_api_result res2;
+    tc_api_result_init(&res2);
+    tc_strbuf_init(&pre);
+    tc_strbuf_puts(&pre, "prefix");
+    CHECK(tc_api_ordinates(j, strlen(j), NULL, &pre, &res2) == 200);
+    CHECK(pre.len == out.len + 6 && !memcmp(pre.buf + 6, out.buf, out.len));
+    tc_strbuf_free(&out), tc_strbuf_free(&pre);
+    tc_api_result_free(&res), tc_api_result_free(&res2);
+    free(j);
+}
