@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "core/geom.h"
+#include "core/parallel.h"
 #include "core/range.h"
 
 static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, int ch, double *lo, double *hi) {
@@ -19,9 +20,10 @@ static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, i
 
 /* Per wedge and channel, the range of every corner value of its faces: the
  * values around a vertex on one side of its delimiters. */
-static void wedge_ranges(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, double *wr) {
+static void wedge_ranges(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, double *wr, int32_t w0,
+                         int32_t w1) {
     int nc = m->nc;
-    for (int32_t w = 0; w < ws->nw; w++)
+    for (int32_t w = w0; w < w1; w++)
         for (int ch = 0; ch < nc; ch++) {
             double *r = wr + 2 * tc__ix(w, nc, ch);
             r[0] = INFINITY, r[1] = -INFINITY;
@@ -127,6 +129,36 @@ static void bound_of(const extent *ext, tc_range mode, double *lo, double *hi) {
     *hi = ext->hi + fmax(margin, up);
 }
 
+/* The per-wedge and per-triangle loops, in parts (each writes its own entries only). */
+typedef struct {
+    const struct tc_mesh *m;
+    const tc__wedge_set *ws;
+    const double *cz, *planes;
+    double *wr;
+    tc_tangents tangents;
+    tc_range mode;
+    int per_quad;
+    tc__bounds *b;
+} bounds_pass;
+
+static void ranges_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const bounds_pass *bp = ctx;
+    (void)part;
+    wedge_ranges(bp->m, bp->ws, bp->cz, bp->wr, lo, hi);
+}
+
+static void bounds_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const bounds_pass *bp = ctx;
+    int nc = bp->m->nc;
+    (void)part;
+    for (int32_t t = lo; t < hi; t++)
+        for (int ch = 0; ch < nc; ch++) {
+            extent ext;
+            extent_of(bp->m, bp->ws, bp->cz, bp->planes, bp->wr, bp->tangents, bp->per_quad, t, ch, &ext);
+            bound_of(&ext, bp->mode, &bp->b->lo[tc__ix(t, nc, ch)], &bp->b->hi[tc__ix(t, nc, ch)]);
+        }
+}
+
 int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
                      tc_tangents tangents, tc_range mode, int per_quad, tc__bounds *b) {
     int nc = m->nc;
@@ -139,7 +171,8 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
         free(wr);
         return TC_ENOMEM;
     }
-    wedge_ranges(m, ws, cz, wr);
+    bounds_pass bp = {m, ws, cz, planes, wr, tangents, mode, per_quad, b};
+    tc__parallel_for(ws->threads, ws->nw, 4096, ranges_part, &bp);
     for (int ch = 0; ch < nc; ch++) {
         double big = 0, lo = INFINITY, hi = -INFINITY;
         for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
@@ -149,12 +182,7 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
         b->tol[ch] = TC_RANGE_SLACK * big;
         b->span[ch] = hi > lo ? hi - lo : fmax(big, 1e-300);
     }
-    for (int32_t t = 0; t < m->nt; t++)
-        for (int ch = 0; ch < nc; ch++) {
-            extent ext;
-            extent_of(m, ws, cz, planes, wr, tangents, per_quad, t, ch, &ext);
-            bound_of(&ext, mode, &b->lo[tc__ix(t, nc, ch)], &b->hi[tc__ix(t, nc, ch)]);
-        }
+    tc__parallel_for(ws->threads, m->nt, 2048, bounds_part, &bp);
     free(wr);
     return TC_OK;
 }

@@ -239,6 +239,7 @@ static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     m->nq = d->ntris > 0 ? 0 : d->nquads;
     m->nt = m->nq ? 2 * m->nq : d->ntris;
     m->nc = d->nchan;
+    m->threads = d->threads;
     if (d->degenerate != TC_DEGENERATE_REFUSE && d->degenerate != TC_DEGENERATE_DROP)
         return tc_diags_add(dg, TC_SEV_ERROR, "degenerate", "unknown degenerate mode %d", (int)d->degenerate);
     if ((rc = check_finite_xy(d, dg)) != TC_OK) return rc;

@@ -51,6 +51,7 @@ struct tc_mesh {
     int32_t *vcorner;   /*   vcorner[vstart[v] .. vstart[v+1]) */
     int32_t nflagged;   /* interior edges flagged C0 or C-1 */
     int32_t ncorner_overrides; /* corners whose value differs from the vertex value */
+    int threads;        /* threads the build's steps may use (tc_mesh_desc); no effect on any result */
 };
 
 /* Quad corner k (0..3) lands on corner (k == 3 ? 2 : k) of triangle 2q, and

@@ -101,6 +101,10 @@ typedef struct {
 /* Counts one event and keeps it if it is among the TC_RANGE_NAMED largest. */
 void tc__range_note(tc__range_tally *t, double size, int32_t where, int edge);
 void tc__range_stats_init(tc__range_stats *s);
+/* Adds the tally of a later part of a loop to `into`: the same as if its
+ * events had been noted after into's (the named ones are the largest, ties
+ * kept in the order noted, so merging parts in order gives the serial tally). */
+void tc__range_tally_merge(tc__range_tally *into, const tc__range_tally *part);
 /* The warnings that say what the limiter changed (none if nothing). */
 void tc__range_warn(const struct tc_mesh *m, const tc__range_stats *s, tc_range mode, tc_diags *dg);
 
