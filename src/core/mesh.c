@@ -10,6 +10,7 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh_build.h"
+#include "core/parallel.h"
 
 void tc_mesh_free(tc_mesh *m) {
     if (!m) return;
@@ -143,6 +144,25 @@ static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_
     return TC_OK;
 }
 
+/* The triangles checked in parts (no findings: made again in order if any failed). */
+typedef struct {
+    const tc_mesh_desc *d;
+    int drop;
+    uint8_t *bad;
+    int32_t nbad[TC_PARALLEL_MAX];
+    int failed[TC_PARALLEL_MAX];
+} tri_pass;
+
+static void triangles_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    tri_pass *tp = ctx;
+    tp->nbad[part] = 0, tp->failed[part] = 0;
+    for (int32_t t = lo; t < hi; t++) {
+        int degenerate;
+        if (check_triangle(tp->d, t, tp->drop, &degenerate, NULL) != TC_OK) tp->failed[part] = 1;
+        if (tp->drop && degenerate) tp->bad[t] = 1, tp->nbad[part]++;
+    }
+}
+
 /* The triangles as given (less the degenerate ones, with degenerate "drop"),
  * or the quads checked and split (quads.c). */
 static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
@@ -154,11 +174,18 @@ static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
     int32_t nbad = 0;
     uint8_t *bad = drop ? tc__calloc((size_t)d->ntris, sizeof *bad) : NULL;
     if (drop && !bad) return TC_ENOMEM;
-    for (int32_t t = 0; t < d->ntris; t++) {
-        int degenerate;
-        if (check_triangle(d, t, drop, &degenerate, dg) != TC_OK) rc = TC_EINVAL;
-        if (drop && degenerate) bad[t] = 1, nbad++;
+    tri_pass tp = {d, drop, bad, {0}, {0}};
+    tc__parallel_for(d->threads, d->ntris, 4096, triangles_part, &tp);
+    int parts = tc__parallel_parts(d->threads, d->ntris, 4096);
+    for (int p = 0; p < parts; p++) {
+        nbad += tp.nbad[p];
+        if (tp.failed[p]) rc = TC_EINVAL;
     }
+    if (rc != TC_OK) /* again in order, for the findings */
+        for (int32_t t = 0; t < d->ntris; t++) {
+            int degenerate;
+            check_triangle(d, t, drop, &degenerate, dg);
+        }
     if (rc == TC_OK) rc = keep_triangles(m, d, bad, nbad, dg);
     free(bad);
     return rc;
@@ -173,6 +200,18 @@ int32_t tc__dropped_with_edge(const struct tc_mesh *m, const tc_mesh_desc *d, in
     return -1;
 }
 
+static void orient_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    struct tc_mesh *m = ctx;
+    (void)part;
+    for (int32_t t = lo; t < hi; t++) {
+        const int32_t *v = m->tri + 3 * (size_t)t;
+        double e1[2], e2[2];
+        tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
+        tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
+        m->orient[t] = tc__cross(e1, e2) > 0 ? 1 : -1;
+    }
+}
+
 static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     int rc = copy_elements(m, d, dg);
     if (rc != TC_OK) return rc;
@@ -180,13 +219,7 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
     m->orient = tc__malloc((size_t)m->nt, sizeof *m->orient);
     if (!m->xy || !m->orient) return TC_ENOMEM;
     memcpy(m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
-    for (int32_t t = 0; t < m->nt; t++) {
-        const int32_t *v = m->tri + 3 * (size_t)t;
-        double e1[2], e2[2];
-        tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
-        tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
-        m->orient[t] = tc__cross(e1, e2) > 0 ? 1 : -1;
-    }
+    tc__parallel_for(m->threads, m->nt, 4096, orient_part, m);
     return TC_OK;
 }
 
@@ -196,16 +229,37 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
  * (docs/stability.md: the ordinates vary by |g| L along it, by |g| h across). */
 #define ASPECT_WARN 1e4
 
-/* One warning for all the slivers, naming the worst. */
-static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
+/* The slivers of triangles [lo, hi): how many, and the first worst. */
+typedef struct {
+    const struct tc_mesh *m;
+    int32_t n[TC_PARALLEL_MAX], worst[TC_PARALLEL_MAX];
+    double worst_ar[TC_PARALLEL_MAX];
+} sliver_pass;
+
+static void slivers_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    sliver_pass *sp = ctx;
     int32_t n = 0, worst = -1;
     double worst_ar = 0;
-    for (int32_t t = 0; t < m->nt; t++) {
-        double ar = tc__face_aspect(m, t);
+    for (int32_t t = lo; t < hi; t++) {
+        double ar = tc__face_aspect(sp->m, t);
         if (ar <= ASPECT_WARN) continue;
         if (isnan(ar)) ar = INFINITY; /* coordinates near the double range: the area overflows */
         n++;
         if (worst < 0 || ar > worst_ar) worst_ar = ar, worst = t;
+    }
+    sp->n[part] = n, sp->worst[part] = worst, sp->worst_ar[part] = worst_ar;
+}
+
+/* One warning for all the slivers, naming the worst (the first of the largest). */
+static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
+    int32_t n = 0, worst = -1;
+    double worst_ar = 0;
+    sliver_pass sp;
+    sp.m = m;
+    tc__parallel_for(m->threads, m->nt, 4096, slivers_part, &sp);
+    for (int p = 0; p < tc__parallel_parts(m->threads, m->nt, 4096); p++) {
+        n += sp.n[p];
+        if (sp.worst[p] >= 0 && (worst < 0 || sp.worst_ar[p] > worst_ar)) worst_ar = sp.worst_ar[p], worst = sp.worst[p];
     }
     if (!n) return;
     char path[48], size[64];

@@ -144,6 +144,32 @@ TEST(threads_build_samples_bit_identical) {
     tmesh_free(&g);
 }
 
+/* Data errors: gradients that are no numbers (validation), and so steep that the
+ * ordinates overflow (the build), each at an early and a late vertex. */
+TEST(threads_data_errors_as_serial) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 20);
+    tmesh g;
+    big_mesh(&g, &r);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    tc_options o;
+    tc_options_default(&o);
+    size_t nsz = (size_t)g.nv * (size_t)g.nc * 2;
+    double *grads = malloc(nsz * sizeof *grads);
+    memcpy(grads, g.grads, nsz * sizeof *grads);
+    int32_t late = g.nv - 200, early = 300;
+    grads[(size_t)late * 4 + 1] = NAN, grads[(size_t)early * 4 + 2] = INFINITY;
+    d.gradients = grads;
+    CHECK(same_on_threads("gradients not finite", &d, &o) == TC_EINVAL);
+    memcpy(grads, g.grads, nsz * sizeof *grads);
+    grads[(size_t)late * 4] = 1e306, grads[(size_t)early * 4 + 3] = -1e306;
+    o.range = TC_RANGE_FREE;
+    CHECK(same_on_threads("overflow", &d, &o) == TC_OK); /* the mesh is fine: the build fails */
+    free(grads);
+    tmesh_free(&g);
+}
+
 /* The big mesh with triangles appended (after the last part's start on any thread
  * count) and the vertices they need; the caller's arrays are freed by the caller. */
 typedef struct {
