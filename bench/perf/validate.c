@@ -1,7 +1,7 @@
 /* validate.c — the validation (tc_mesh_new) and build (tc_recon_new) of a reconstruction
  * timed apart, on meshes made here in memory, at n and 4n to show both grow linearly.
  *
- *     build/bench_validate [--threads N,M,...] [--reps R] [--quick] [--only grid|flags|wheel]
+ *     build/bench_validate [--threads N,M,...] [--reps R] [--quick | --big] [--only grid|flags|wheel]
  *
  * Meshes: gridN (a regular grid, 2N^2 triangles, exact gradients given, as meshes.py's
  * gridN.json), flagsN (the same grid with one C0 and one C-1 polyline snaking through
@@ -9,7 +9,7 @@
  * one vertex of valence K, 7 rings of quads around it: many vertices of high valence).
  * For each mesh and thread count: best of R runs of each phase, in ms, and the ratio
  * validate / build. The lines "scaling" give time(4n) / time(n) per phase: ~4 is linear,
- * ~16 quadratic. */
+ * ~16 quadratic. --quick: n 4x smaller; --big: n 4x larger (524k -> 2.1M triangles). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -190,16 +190,20 @@ int main(int argc, char **argv) {
             only = argv[++i];
         } else if (!strcmp(argv[i], "--quick")) {
             quick = 1;
+        } else if (!strcmp(argv[i], "--big")) {
+            quick = -1;
         } else {
-            fprintf(stderr, "usage: %s [--threads N,M,...] [--reps R] [--quick] [--only grid|flags|wheel]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--threads N,M,...] [--reps R] [--quick | --big] [--only grid|flags|wheel]\n", argv[0]);
             return 2;
         }
     }
     /* pairs (n, 4n): grid 256 / 512 (131k / 524k triangles), the flags at the same sizes,
      * wheels of 16k / 64k fan triangles */
     int sizes[3][2] = {{256, 512}, {256, 512}, {16384, 65536}};
-    if (quick) sizes[0][0] = sizes[1][0] = 64, sizes[0][1] = sizes[1][1] = 128, sizes[2][0] = 1024,
-               sizes[2][1] = 4096;
+    if (quick > 0) sizes[0][0] = sizes[1][0] = 64, sizes[0][1] = sizes[1][1] = 128, sizes[2][0] = 1024,
+                   sizes[2][1] = 4096;
+    if (quick < 0) sizes[0][0] = sizes[1][0] = 512, sizes[0][1] = sizes[1][1] = 1024, sizes[2][0] = 65536,
+                   sizes[2][1] = 262144;
     printf("%-12s %9s %8s %12s %10s %10s\n", "mesh", "triangles", "threads", "validate_ms", "build_ms",
            "val/build");
     static const char *const kinds[3] = {"grid", "flags", "wheel"};

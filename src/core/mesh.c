@@ -128,7 +128,7 @@ static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_
     m->tri = tc__malloc((size_t)m->nt * 3, sizeof *m->tri);
     if (!m->tri) return TC_ENOMEM;
     if (nbad == 0) {
-        memcpy(m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
+        tc__parallel_copy(m->threads, m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
         return TC_OK;
     }
     m->given = tc__malloc((size_t)m->nt, sizeof *m->given);
@@ -218,7 +218,7 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
     m->xy = tc__malloc((size_t)m->nv * 2, sizeof *m->xy);
     m->orient = tc__malloc((size_t)m->nt, sizeof *m->orient);
     if (!m->xy || !m->orient) return TC_ENOMEM;
-    memcpy(m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
+    tc__parallel_copy(m->threads, m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
     tc__parallel_for(m->threads, m->nt, 4096, orient_part, m);
     return TC_OK;
 }

@@ -3,6 +3,7 @@
 #ifndef TC_CORE_PARALLEL_H
 #define TC_CORE_PARALLEL_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 /* At most this many parts (and threads) for one loop. */
@@ -25,5 +26,8 @@ int tc__parallel_parts(int threads, int32_t n, int32_t min_part);
  * cannot be started leaves its part to the caller's thread: never a
  * failure, only less parallel. */
 void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
+
+/* memcpy(dst, src, bytes) in parts (a large copy runs at more than one core's bandwidth). */
+void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes);
 
 #endif

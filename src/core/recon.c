@@ -104,11 +104,9 @@ static int build(struct tc_recon *r, tc_diags *dg) {
 /* The channels whose data are all >= 0: a restricted range keeps them so. */
 static void set_floors(struct tc_recon *r) {
     const struct tc_mesh *m = r->m;
-    for (int ch = 0; ch < m->nc; ch++) {
-        int nonneg = 1;
-        for (size_t c = 0; c < 3 * (size_t)m->nt && nonneg; c++) nonneg = m->cz[c * (size_t)m->nc + (size_t)ch] >= 0;
-        r->floor0[ch] = (uint8_t)nonneg;
-    }
+    double lo[TC_MAX_CHANNELS], hi[TC_MAX_CHANNELS], big[TC_MAX_CHANNELS];
+    tc__channel_range(m, m->cz, r->opt.threads, lo, hi, big);
+    for (int ch = 0; ch < m->nc; ch++) r->floor0[ch] = (uint8_t)(lo[ch] >= 0);
 }
 
 /* A method that formats "triangles[t]" itself on a quad mesh would name an

@@ -11,6 +11,7 @@
 #include "core/mesh.h"
 #include "core/parallel.h"
 #include "core/plane.h"
+#include "core/range.h"
 #include "core/tanfit.h"
 #include "core/tangent.h"
 
@@ -95,18 +96,10 @@ typedef struct {
     double range[TC_MAX_CHANNELS]; /* largest - smallest corner value */
 } chan_stats;
 
-static void channel_stats(const struct tc_mesh *m, const double *cz, chan_stats *cs) {
-    int nc = m->nc;
-    for (int ch = 0; ch < nc; ch++) {
-        double lo = INFINITY, hi = -INFINITY, big = 0;
-        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-            double z = cz[c * (size_t)nc + (size_t)ch];
-            if (z < lo) lo = z; /* finite (a mesh invariant): plain compares, not libm calls */
-            if (z > hi) hi = z;
-            if (fabs(z) > big) big = fabs(z);
-        }
-        cs->scale[ch] = big, cs->range[ch] = m->nt ? hi - lo : 0;
-    }
+static void channel_stats(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, chan_stats *cs) {
+    double lo[TC_MAX_CHANNELS], hi[TC_MAX_CHANNELS];
+    tc__channel_range(m, cz, ws->threads, lo, hi, cs->scale);
+    for (int ch = 0; ch < m->nc; ch++) cs->range[ch] = m->nt ? hi[ch] - lo[ch] : 0;
 }
 
 /* What bounding did to one plane, over the channels where it mattered. */
@@ -280,7 +273,7 @@ static void merge_clamps(clamp_report *into, const clamp_report *part) {
 int tc__corner_inputs(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, tc_tangents mode,
                       double *inputs, tc_diags *dg) {
     chan_stats cs;
-    channel_stats(m, cz, &cs);
+    channel_stats(m, ws, cz, &cs);
     inputs_pass ip = {.m = m, .ws = ws, .cz = cz, .mode = mode, .inputs = inputs, .cs = &cs};
     tc__parallel_for(ws->threads, m->nv, 4096, inputs_part, &ip);
     clamp_report cr;

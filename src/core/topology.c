@@ -309,6 +309,18 @@ static int check_fans(struct tc_mesh *m, tc_diags *dg) {
     return rc;
 }
 
+static void unlinked_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    struct tc_mesh *m = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) m->nbr[c] = -1;
+}
+
+static void flags_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    struct tc_mesh *m = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) m->flag[c] = m->nbr[c] >= 0 ? TC_C1 : TC_CM1;
+}
+
 int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     size_t nc = 3 * (size_t)m->nt;
     int rc = build_vertex_corners(m);
@@ -317,7 +329,7 @@ int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     m->nbr_k = tc__calloc(nc, sizeof *m->nbr_k);
     m->flag = tc__malloc(nc, sizeof *m->flag);
     if (!m->nbr || !m->nbr_k || !m->flag) return TC_ENOMEM;
-    for (size_t c = 0; c < nc; c++) m->nbr[c] = -1;
+    tc__parallel_for(m->threads, (int32_t)nc, 16384, unlinked_part, m);
     edge_sides es;
     memset(&es, 0, sizeof es);
     rc = find_sides(m, &es);
@@ -325,7 +337,7 @@ int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     sides_free(&es);
     if (rc != TC_OK) return rc;
     if ((rc = check_fans(m, dg)) != TC_OK) return rc;
-    for (size_t c = 0; c < nc; c++) m->flag[c] = m->nbr[c] >= 0 ? TC_C1 : TC_CM1;
+    tc__parallel_for(m->threads, (int32_t)nc, 16384, flags_part, m);
     return TC_OK;
 }
 
