@@ -32,6 +32,8 @@ void tc_mesh_free(tc_mesh *m) {
     free(m->flag);
     free(m->vstart);
     free(m->vcorner);
+    free(m->dstart);
+    free(m->dtri);
     free(m);
 }
 
@@ -118,6 +120,26 @@ static void warn_dropped(const struct tc_mesh *m, tc_diags *dg) {
                  "the others keep their index", (int)ndropped, list, ndropped > shown ? ", ..." : "");
 }
 
+/* The dropped triangles at each vertex (m->dstart, m->dtri), so that asking
+ * which dropped triangle has an edge costs the vertex's dropped triangles,
+ * not a scan of all (a polyline of many segments that are no edges would
+ * make that quadratic). A triangle repeating a vertex is listed twice there. */
+static int index_dropped(struct tc_mesh *m, const tc_mesh_desc *d) {
+    m->dstart = tc__calloc((size_t)m->nv + 1, sizeof *m->dstart);
+    m->dtri = tc__malloc(3 * (size_t)(m->ngiven - m->nt), sizeof *m->dtri);
+    if (!m->dstart || !m->dtri) return TC_ENOMEM;
+    for (int32_t i = 0; i < m->ngiven; i++)
+        for (int k = 0; m->kept[i] < 0 && k < 3; k++) m->dstart[d->tris[3 * (size_t)i + (size_t)k] + 1]++;
+    for (int32_t v = 0; v < m->nv; v++) m->dstart[v + 1] += m->dstart[v];
+    int32_t *fill = tc__malloc((size_t)m->nv, sizeof *fill);
+    if (!fill) return TC_ENOMEM;
+    memcpy(fill, m->dstart, (size_t)m->nv * sizeof *fill);
+    for (int32_t i = 0; i < m->ngiven; i++)
+        for (int k = 0; m->kept[i] < 0 && k < 3; k++) m->dtri[fill[d->tris[3 * (size_t)i + (size_t)k]]++] = i;
+    free(fill);
+    return TC_OK;
+}
+
 /* The triangles kept (all, or those not degenerate with `drop`), and the
  * given <-> kept index maps when some were dropped. */
 static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_t *bad, int32_t nbad, tc_diags *dg) {
@@ -141,7 +163,7 @@ static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_
         memcpy(m->tri + 3 * (size_t)t++, d->tris + 3 * (size_t)i, 3 * sizeof *m->tri);
     }
     warn_dropped(m, dg);
-    return TC_OK;
+    return index_dropped(m, d);
 }
 
 /* The triangles checked in parts (no findings: made again in order if any failed). */
@@ -192,10 +214,11 @@ static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
 }
 
 int32_t tc__dropped_with_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t a, int32_t b) {
-    for (int32_t i = 0; m->kept && i < m->ngiven; i++) {
+    if (!m->dstart) return -1;
+    for (int32_t j = m->dstart[a]; j < m->dstart[a + 1]; j++) {
+        int32_t i = m->dtri[j];
         const int32_t *v = d->tris + 3 * (size_t)i;
-        int has_a = v[0] == a || v[1] == a || v[2] == a, has_b = v[0] == b || v[1] == b || v[2] == b;
-        if (m->kept[i] < 0 && has_a && has_b) return i;
+        if (v[0] == b || v[1] == b || v[2] == b) return i; /* the first: the lowest given index */
     }
     return -1;
 }
@@ -313,6 +336,8 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags) {
     struct tc_mesh *m = calloc(1, sizeof *m);
     if (!m) return TC_ENOMEM;
     int rc = build(m, desc, diags);
+    free(m->dstart), free(m->dtri); /* only the checks use them */
+    m->dstart = m->dtri = NULL;
     if (rc != TC_OK) {
         tc_mesh_free(m);
         return rc;
