@@ -134,50 +134,50 @@ static int dart_edge(const struct tc_mesh *m, const tc__ct_input *ci, int32_t t,
     return is_tied(ci, 3 * t + k) && m->nbr[3 * t + k] > t;
 }
 
-/* Which edges of triangles [lo, hi) need scaling with the planes as they are
- * before the round (an edge's lambdas read only the planes at its two ends). */
+/* The first of triangles [lo, hi) with an edge that needs scaling, the planes
+ * as they are before the round. */
 typedef struct {
     const limiter *lim;
     const double *planes;
-    uint8_t *need;
+    int32_t first[TC_PARALLEL_MAX]; /* the part's first triangle with an edge in need, or INT32_MAX */
 } dart_pass;
 
 static void dart_part(void *ctx, int32_t lo, int32_t hi, int part) {
-    const dart_pass *dp = ctx;
+    dart_pass *dp = ctx;
     const struct tc_mesh *m = dp->lim->ci->m;
-    (void)part;
+    dp->first[part] = INT32_MAX;
     for (int32_t t = lo; t < hi; t++)
         for (int k = 0; k < 3; k++) {
-            dp->need[3 * t + k] = 0;
             if (!dart_edge(m, dp->lim->ci, t, k)) continue;
             tie e;
             tie_geometry(m, t, k, &e);
             for (int ch = 0; ch < m->nc; ch++) {
                 double lambda = edge_lambda(dp->lim, dp->planes, &e, ch);
-                if (lambda >= 0 && lambda < 1) dp->need[3 * t + k] = 1;
+                if (!(lambda >= 0 && lambda < 1)) continue;
+                dp->first[part] = t;
+                return;
             }
         }
 }
 
 /* One round over the tied edges: for each infeasible one, scales the planes
- * at both ends (and their C0 groups). Returns how many planes it scaled. In order, each edge seeing the scalings before it; the
- * lambdas are found on threads first, and an edge is worked out again in the
- * ordered pass only if it needed scaling then or a scaling since touched the
- * planes at its ends (a group is at one vertex: vertices are marked), so the
- * round is the serial one. */
-static int dart_round(const limiter *lim, double *planes, uint8_t *need, uint8_t *vdirty) {
+ * at both ends (and their C0 groups). Returns how many planes it scaled. In
+ * order, each edge seeing the scalings before it: the lambdas are found on
+ * threads first, and the ordered pass starts at the first edge that needs a
+ * scaling (before it nothing changes), so the round is the serial one. Darts
+ * are rare: on most meshes the round ends after the threaded pass. */
+static int dart_round(const limiter *lim, double *planes) {
     const tc__ct_input *ci = lim->ci;
     const struct tc_mesh *m = ci->m;
     int nc = m->nc, scaled = 0;
-    dart_pass dp = {lim, planes, need};
+    dart_pass dp = {lim, planes, {0}};
     tc__parallel_for(ci->threads, m->nt, 2048, dart_part, &dp);
-    memset(vdirty, 0, (size_t)m->nv);
-    for (int32_t t = 0; t < m->nt; t++)
+    int32_t first = INT32_MAX;
+    for (int p = 0; p < tc__parallel_parts(ci->threads, m->nt, 2048); p++)
+        if (dp.first[p] < first) first = dp.first[p];
+    for (int32_t t = first; t < m->nt; t++)
         for (int k = 0; k < 3; k++) {
-            int32_t ea = 3 * t + k;
             if (!dart_edge(m, ci, t, k)) continue;
-            int32_t va = m->tri[ea], vb = m->tri[3 * t + (k + 1) % 3];
-            if (!need[ea] && !vdirty[va] && !vdirty[vb]) continue;
             tie e;
             tie_geometry(m, t, k, &e);
             for (int ch = 0; ch < nc; ch++) {
@@ -185,7 +185,6 @@ static int dart_round(const limiter *lim, double *planes, uint8_t *need, uint8_t
                 if (lambda < 0 || lambda >= 1) continue;
                 tc__range_scale_group(ci->ws, nc, ci->ws->of_corner[e.ca], ch, lambda, planes);
                 tc__range_scale_group(ci->ws, nc, ci->ws->of_corner[e.cb], ch, lambda, planes);
-                vdirty[va] = vdirty[vb] = 1;
                 scaled += 2;
             }
         }
@@ -325,13 +324,10 @@ int tc__ct_ordinates_ranged(const tc__ct_input *ci, tc_range mode, double *plane
     tc__range_stats stats;
     tc__range_stats_init(&stats);
     int rc = tc__bounds_build(m, ci->ws, ci->cz, planes, ci->tangents, mode, 0, &b);
-    uint8_t *need = rc == TC_OK ? tc__malloc(3 * (size_t)m->nt, 1) : NULL;
-    uint8_t *vdirty = rc == TC_OK ? tc__malloc((size_t)m->nv, 1) : NULL;
-    if (rc == TC_OK && (!need || !vdirty)) rc = TC_ENOMEM;
     if (rc == TC_OK) rc = tc__range_planes(m, ci->ws, ci->cz, &b, ct_dirs, m, planes, &stats);
     limiter lim = {ci, &b, &stats};
     for (int round = 0; rc == TC_OK && round < DART_ROUNDS; round++) {
-        int n = dart_round(&lim, planes, need, vdirty);
+        int n = dart_round(&lim, planes);
         stats.flattened += n;
         if (!n) break;
     }
@@ -340,7 +336,6 @@ int tc__ct_ordinates_ranged(const tc__ct_input *ci, tc_range mode, double *plane
         limit_all_edges(&lim, coef);
         tc__range_warn(m, &stats, mode, dg);
     }
-    free(need), free(vdirty);
     tc__bounds_free(&b);
     return rc;
 }

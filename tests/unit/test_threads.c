@@ -144,6 +144,36 @@ TEST(threads_build_samples_bit_identical) {
     tmesh_free(&g);
 }
 
+/* Long obtuse triangles (the grid stretched 200 x and sheared) with random values
+ * and steep random gradients: range "local" limits planes, scales them at darts
+ * (the ordered pass after the threaded one) and clamps cross-boundary ordinates. */
+TEST(threads_range_limiter_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 21);
+    tmesh g;
+    big_mesh(&g, &r);
+    for (int32_t i = 0; i < g.nv; i++) {
+        double *p = g.xy + 2 * i;
+        p[0] = 200 * p[0] + 150 * p[1];
+    }
+    for (int32_t i = 0; i < g.nv * g.nc; i++) {
+        g.values[i] = trng_uniform(&r);
+        g.grads[2 * i] = 3 * (trng_uniform(&r) - 0.5), g.grads[2 * i + 1] = 600 * (trng_uniform(&r) - 0.5);
+    }
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    d.ncorner_values = 0; /* the random values replace the generator's jumps */
+    tc_options o;
+    tc_options_default(&o);
+    for (int c = 0; c < 3; c++) {
+        o.cross_boundary = (tc_cross)c;
+        CHECK(same_on_threads(tc_cross_name((tc_cross)c), &d, &o) == TC_OK);
+    }
+    o.method = TC_METHOD_CLOUGH_TOCHER_C1;
+    CHECK(same_on_threads("c1", &d, &o) == TC_OK);
+    tmesh_free(&g);
+}
+
 /* Data errors: gradients that are no numbers (validation), and so steep that the
  * ordinates overflow (the build), each at an early and a late vertex. */
 TEST(threads_data_errors_as_serial) {
