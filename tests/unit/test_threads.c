@@ -7,6 +7,7 @@
 #include "check.h"
 #include "meshgen.h"
 #include "props.h"
+#include "quadgen.h"
 
 /* Everything a validation and build produce that a caller can see. */
 typedef struct {
@@ -172,6 +173,35 @@ TEST(threads_range_limiter_bit_identical) {
     o.method = TC_METHOD_CLOUGH_TOCHER_C1;
     CHECK(same_on_threads("c1", &d, &o) == TC_OK);
     tmesh_free(&g);
+}
+
+static void wavy_q(const void *ctx, double x, double y, int ch, double *v, double g[2], double h[3]) {
+    (void)ctx;
+    double s = sin(3 * x + ch), c = cos(2 * y);
+    *v = s * c;
+    g[0] = 3 * cos(3 * x + ch) * c, g[1] = -2 * s * sin(2 * y);
+    h[0] = -9 * s * c, h[1] = -6 * cos(3 * x + ch) * sin(2 * y), h[2] = -4 * s * c;
+}
+
+/* A quad mesh (hermite, and the triangle methods on its split): 2 x 100 x 100 triangles. */
+TEST(threads_quads_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 22);
+    qmesh q;
+    qgrid_opts go = {0.1, 0, {0, 0, 0, 0}, {0, 0}};
+    qmesh_grid(&q, 100, 100, &go, &r);
+    qmesh_sample(&q, 2, wavy_q, NULL);
+    tc_mesh_desc d;
+    qmesh_desc(&q, 0, 0, &d);
+    tc_options o;
+    tc_options_default(&o);
+    o.method = TC_METHOD_HERMITE;
+    CHECK(same_on_threads("hermite, estimated", &d, &o) == TC_OK);
+    qmesh_desc(&q, 1, 0, &d);
+    CHECK(same_on_threads("hermite, gradients", &d, &o) == TC_OK);
+    o.method = TC_METHOD_CLOUGH_TOCHER;
+    CHECK(same_on_threads("clough-tocher on quads", &d, &o) == TC_OK);
+    qmesh_free(&q);
 }
 
 /* Data errors: gradients that are no numbers (validation), and so steep that the
