@@ -106,6 +106,10 @@ $(BUILD)/report: $(BENCH_OBJ) $(BUILD)/libtocher.a
 $(BUILD)/bench_perf: $(call obj,bench/perf/perf.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
 
+# Validation against build, at n and 4n and per thread count (issue 17): bench/perf/validate.c.
+$(BUILD)/bench_validate: $(call obj,bench/perf/validate.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
 # Number printing (issue 17): tc_fmt_double against the cascade it replaced and printf.
 $(BUILD)/obj/bench/perf/%.o: ALL_CFLAGS += -Ibench/perf
 $(BUILD)/bench_numfmt: $(call obj,bench/perf/numfmt.c bench/perf/numfmt_cascade.c) $(BUILD)/libtocher.a

@@ -145,6 +145,10 @@ typedef struct {
      * 1e-12: rounding only. tc_mesh_desc_init sets TC_VALUE_TOLERANCE_DEFAULT. */
     double value_tolerance;
     tc_degenerate degenerate;
+    /* Threads tc_mesh_new may use for its per-vertex and per-triangle checks;
+     * <= 1 checks on the caller's thread. The mesh and every finding (their
+     * order included) are the same whatever the count. */
+    int threads;
 } tc_mesh_desc;
 
 /* The default value_tolerance: printing to 6 significant digits (differences
@@ -251,7 +255,10 @@ typedef enum {
 } tc_range;
 
 /* Invariant: every default is the enum's 0, so a zero-filled tc_options is
- * tc_options_default's. */
+ * tc_options_default's. `threads` is no option of the method: the threads
+ * tc_recon_new may use for its per-vertex and per-triangle work (<= 1: the
+ * caller's thread only); the ordinates and every finding are the same bit for
+ * bit whatever the count. */
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;
@@ -260,6 +267,7 @@ typedef struct {
     tc_twist twist;
     tc_average average;
     tc_range range;
+    int threads;
 } tc_options;
 
 void tc_options_default(tc_options *o);

@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "core/geom.h"
+#include "core/parallel.h"
 #include "core/range.h"
 
 static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, int ch, double *lo, double *hi) {
@@ -19,9 +20,10 @@ static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, i
 
 /* Per wedge and channel, the range of every corner value of its faces: the
  * values around a vertex on one side of its delimiters. */
-static void wedge_ranges(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, double *wr) {
+static void wedge_ranges(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, double *wr, int32_t w0,
+                         int32_t w1) {
     int nc = m->nc;
-    for (int32_t w = 0; w < ws->nw; w++)
+    for (int32_t w = w0; w < w1; w++)
         for (int ch = 0; ch < nc; ch++) {
             double *r = wr + 2 * tc__ix(w, nc, ch);
             r[0] = INFINITY, r[1] = -INFINITY;
@@ -127,6 +129,85 @@ static void bound_of(const extent *ext, tc_range mode, double *lo, double *hi) {
     *hi = ext->hi + fmax(margin, up);
 }
 
+/* The range of each channel's corner values, per part: min, max and largest
+ * magnitude are exact whatever the order, so the parts' merge is the serial scan. */
+typedef struct {
+    const struct tc_mesh *m;
+    const double *cz;
+    double lo[TC_PARALLEL_MAX][TC_MAX_CHANNELS], hi[TC_PARALLEL_MAX][TC_MAX_CHANNELS],
+        big[TC_PARALLEL_MAX][TC_MAX_CHANNELS];
+} range_pass;
+
+static void channel_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    range_pass *rp = ctx;
+    int nc = rp->m->nc;
+    for (int ch = 0; ch < nc; ch++) {
+        double l = INFINITY, h = -INFINITY, big = 0;
+        for (int32_t c = lo; c < hi; c++) {
+            double z = rp->cz[tc__ix(c, nc, ch)];
+            if (z < l) l = z; /* finite (a mesh invariant): plain compares */
+            if (z > h) h = z;
+            if (fabs(z) > big) big = fabs(z);
+        }
+        rp->lo[part][ch] = l, rp->hi[part][ch] = h, rp->big[part][ch] = big;
+    }
+}
+
+void tc__channel_range(const struct tc_mesh *m, const double *cz, int threads, double *lo, double *hi, double *big) {
+    range_pass *rp = malloc(sizeof *rp); /* 24 KiB: off the stack */
+    int parts = tc__parallel_parts(threads, 3 * m->nt, 16384);
+    for (int ch = 0; ch < m->nc; ch++) lo[ch] = INFINITY, hi[ch] = -INFINITY, big[ch] = 0;
+    if (!rp) { /* the serial scan */
+        for (int ch = 0; ch < m->nc; ch++)
+            for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
+                double z = cz[tc__ix((long)c, m->nc, ch)];
+                if (z < lo[ch]) lo[ch] = z;
+                if (z > hi[ch]) hi[ch] = z;
+                if (fabs(z) > big[ch]) big[ch] = fabs(z);
+            }
+        return;
+    }
+    rp->m = m, rp->cz = cz;
+    tc__parallel_for(threads, 3 * m->nt, 16384, channel_part, rp);
+    for (int p = 0; p < parts; p++)
+        for (int ch = 0; ch < m->nc; ch++) {
+            if (rp->lo[p][ch] < lo[ch]) lo[ch] = rp->lo[p][ch];
+            if (rp->hi[p][ch] > hi[ch]) hi[ch] = rp->hi[p][ch];
+            if (rp->big[p][ch] > big[ch]) big[ch] = rp->big[p][ch];
+        }
+    free(rp);
+}
+
+/* The per-wedge and per-triangle loops, in parts (each writes its own entries only). */
+typedef struct {
+    const struct tc_mesh *m;
+    const tc__wedge_set *ws;
+    const double *cz, *planes;
+    double *wr;
+    tc_tangents tangents;
+    tc_range mode;
+    int per_quad;
+    tc__bounds *b;
+} bounds_pass;
+
+static void ranges_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const bounds_pass *bp = ctx;
+    (void)part;
+    wedge_ranges(bp->m, bp->ws, bp->cz, bp->wr, lo, hi);
+}
+
+static void bounds_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const bounds_pass *bp = ctx;
+    int nc = bp->m->nc;
+    (void)part;
+    for (int32_t t = lo; t < hi; t++)
+        for (int ch = 0; ch < nc; ch++) {
+            extent ext;
+            extent_of(bp->m, bp->ws, bp->cz, bp->planes, bp->wr, bp->tangents, bp->per_quad, t, ch, &ext);
+            bound_of(&ext, bp->mode, &bp->b->lo[tc__ix(t, nc, ch)], &bp->b->hi[tc__ix(t, nc, ch)]);
+        }
+}
+
 int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const double *planes,
                      tc_tangents tangents, tc_range mode, int per_quad, tc__bounds *b) {
     int nc = m->nc;
@@ -139,22 +220,16 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
         free(wr);
         return TC_ENOMEM;
     }
-    wedge_ranges(m, ws, cz, wr);
+    bounds_pass bp = {m, ws, cz, planes, wr, tangents, mode, per_quad, b};
+    tc__parallel_for(ws->threads, ws->nw, 4096, ranges_part, &bp);
+    double clo[TC_MAX_CHANNELS], chi[TC_MAX_CHANNELS], cbig[TC_MAX_CHANNELS];
+    tc__channel_range(m, cz, ws->threads, clo, chi, cbig);
     for (int ch = 0; ch < nc; ch++) {
-        double big = 0, lo = INFINITY, hi = -INFINITY;
-        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-            double z = cz[tc__ix((long)c, nc, ch)];
-            big = fmax(big, fabs(z)), lo = fmin(lo, z), hi = fmax(hi, z);
-        }
+        double big = cbig[ch], lo = clo[ch], hi = chi[ch];
         b->tol[ch] = TC_RANGE_SLACK * big;
         b->span[ch] = hi > lo ? hi - lo : fmax(big, 1e-300);
     }
-    for (int32_t t = 0; t < m->nt; t++)
-        for (int ch = 0; ch < nc; ch++) {
-            extent ext;
-            extent_of(m, ws, cz, planes, wr, tangents, per_quad, t, ch, &ext);
-            bound_of(&ext, mode, &b->lo[tc__ix(t, nc, ch)], &b->hi[tc__ix(t, nc, ch)]);
-        }
+    tc__parallel_for(ws->threads, m->nt, 2048, bounds_part, &bp);
     free(wr);
     return TC_OK;
 }

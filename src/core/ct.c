@@ -10,6 +10,7 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/plane.h"
 
 const char *const tc__ct_labels[TC_CT_ORDINATES] = {
@@ -195,15 +196,50 @@ void tc__ct_close(double *o) {
     o[CT_CCC] = mean3(o[CT_CCU], o[CT_CCV], o[CT_CCW]);
 }
 
-int tc__ct_ordinates(const tc__ct_input *ci, double *coef, tc_diags *dg) {
-    project_stats ps = {0, -1, 0, 0};
-    for (int32_t t = 0; t < ci->m->nt; t++) {
+/* One part of the triangles (tc__parallel_for): its own Project statistics
+ * and the first triangle that failed (INT32_MAX: none); a part stops there. */
+typedef struct {
+    const tc__ct_input *ci;
+    double *coef;
+    project_stats ps[TC_PARALLEL_MAX];
+    int32_t first_bad[TC_PARALLEL_MAX];
+} ordinates_pass;
+
+static void local_setup(const tc__ct_input *ci, int32_t t, geom *g) {
+    local_geometry(ci->m, t, g);
+    for (int k = 0; k < 3; k++)
+        g->tau[k] = ci->cross == TC_CROSS_AFFINE ? tau_affine(ci, t, k, g) : tau_normal(g, k, (k + 1) % 3, (k + 2) % 3);
+}
+
+static void ordinates_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    ordinates_pass *op = ctx;
+    op->ps[part] = (project_stats){0, -1, 0, 0};
+    op->first_bad[part] = INT32_MAX;
+    for (int32_t t = lo; t < hi; t++) {
         geom g;
-        local_geometry(ci->m, t, &g);
-        for (int k = 0; k < 3; k++)
-            g.tau[k] = ci->cross == TC_CROSS_AFFINE ? tau_affine(ci, t, k, &g)
-                                                   : tau_normal(&g, k, (k + 1) % 3, (k + 2) % 3);
-        if (triangle(ci, t, &g, coef, &ps, dg) != TC_OK) return TC_EINVAL;
+        local_setup(op->ci, t, &g);
+        if (triangle(op->ci, t, &g, op->coef, &op->ps[part], NULL) != TC_OK) {
+            op->first_bad[part] = t;
+            return;
+        }
+    }
+}
+
+int tc__ct_ordinates(const tc__ct_input *ci, double *coef, tc_diags *dg) {
+    ordinates_pass op;
+    op.ci = ci, op.coef = coef;
+    int parts = tc__parallel_parts(ci->threads, ci->m->nt, 1024);
+    tc__parallel_for(ci->threads, ci->m->nt, 1024, ordinates_part, &op);
+    project_stats ps = {0, -1, 0, 0};
+    for (int p = 0; p < parts; p++) {
+        if (op.first_bad[p] != INT32_MAX) { /* the first failure, reported as the serial loop does */
+            geom g;
+            local_setup(ci, op.first_bad[p], &g);
+            return triangle(ci, op.first_bad[p], &g, coef, &ps, dg);
+        }
+        const project_stats *q = &op.ps[p]; /* merged in triangle order: the first largest wins */
+        if (q->count && (ps.count == 0 || q->amp > ps.amp)) ps.amp = q->amp, ps.t = q->t, ps.edge = q->edge;
+        ps.count += q->count;
     }
     warn_projects(ci, &ps, dg);
     return TC_OK;

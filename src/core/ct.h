@@ -36,6 +36,7 @@ typedef struct {
     tc_tangents tangents; /* where the corner planes came from (the range limiter trusts given ones) */
     tc_wedges wedges;   /* literal: salesin uses the paper's 3D Project */
     int by_area;        /* average "area" with corrected wedges: salesin's Avg is a plain mean */
+    int threads;        /* for the per-triangle loop (tc_options.threads); no effect on the result */
 } tc__ct_input;
 
 /* Fills coef[nt][nc][19]. Fails only for salesin+literal where Project is singular. */

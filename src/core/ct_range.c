@@ -28,6 +28,7 @@
 #include "core/alloc.h"
 #include "core/ct.h"
 #include "core/geom.h"
+#include "core/parallel.h"
 #include "core/range.h"
 
 /* The directions of a corner's two edge ordinates: (p - v) / 3. */
@@ -117,24 +118,70 @@ static double dart_lambda(const tie *e, double za, double zb, double aab, double
     return fmin(fmax(lambda, 0), 1);
 }
 
+/* Tied edge (t, k) in channel ch: the lambda that makes it feasible, as dart_lambda. */
+static double edge_lambda(const limiter *lim, const double *planes, const tie *e, int ch) {
+    const tc__ct_input *ci = lim->ci;
+    int nc = ci->m->nc;
+    size_t i1 = tc__ix(e->t, nc, ch), i2 = tc__ix(e->t2, nc, ch);
+    double flo = lim->b->lo[i2] + e->mu * lim->b->lo[i1], fhi = lim->b->hi[i2] + e->mu * lim->b->hi[i1];
+    double aab, abb, za = ci->cz[tc__ix(e->ca, nc, ch)], zb = ci->cz[tc__ix(e->cb, nc, ch)];
+    edge_ordinates(ci, planes, e, ch, &aab, &abb);
+    return dart_lambda(e, za, zb, aab, abb, flo, fhi, tie_slack(e, lim->b->tol[ch]));
+}
+
+/* The edges a round visits: tied, seen from the lower triangle. */
+static int dart_edge(const struct tc_mesh *m, const tc__ct_input *ci, int32_t t, int k) {
+    return is_tied(ci, 3 * t + k) && m->nbr[3 * t + k] > t;
+}
+
+/* The first of triangles [lo, hi) with an edge that needs scaling, the planes
+ * as they are before the round. */
+typedef struct {
+    const limiter *lim;
+    const double *planes;
+    int32_t first[TC_PARALLEL_MAX]; /* the part's first triangle with an edge in need, or INT32_MAX */
+} dart_pass;
+
+static void dart_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    dart_pass *dp = ctx;
+    const struct tc_mesh *m = dp->lim->ci->m;
+    dp->first[part] = INT32_MAX;
+    for (int32_t t = lo; t < hi; t++)
+        for (int k = 0; k < 3; k++) {
+            if (!dart_edge(m, dp->lim->ci, t, k)) continue;
+            tie e;
+            tie_geometry(m, t, k, &e);
+            for (int ch = 0; ch < m->nc; ch++) {
+                double lambda = edge_lambda(dp->lim, dp->planes, &e, ch);
+                if (!(lambda >= 0 && lambda < 1)) continue;
+                dp->first[part] = t;
+                return;
+            }
+        }
+}
+
 /* One round over the tied edges: for each infeasible one, scales the planes
- * at both ends (and their C0 groups). Returns how many planes it scaled. */
+ * at both ends (and their C0 groups). Returns how many planes it scaled. In
+ * order, each edge seeing the scalings before it: the lambdas are found on
+ * threads first, and the ordered pass starts at the first edge that needs a
+ * scaling (before it nothing changes), so the round is the serial one. Darts
+ * are rare: on most meshes the round ends after the threaded pass. */
 static int dart_round(const limiter *lim, double *planes) {
     const tc__ct_input *ci = lim->ci;
     const struct tc_mesh *m = ci->m;
     int nc = m->nc, scaled = 0;
-    for (int32_t t = 0; t < m->nt; t++)
+    dart_pass dp = {lim, planes, {0}};
+    tc__parallel_for(ci->threads, m->nt, 2048, dart_part, &dp);
+    int32_t first = INT32_MAX;
+    for (int p = 0; p < tc__parallel_parts(ci->threads, m->nt, 2048); p++)
+        if (dp.first[p] < first) first = dp.first[p];
+    for (int32_t t = first; t < m->nt; t++)
         for (int k = 0; k < 3; k++) {
-            int32_t ea = 3 * t + k;
-            if (!is_tied(ci, ea) || m->nbr[ea] < t) continue;
+            if (!dart_edge(m, ci, t, k)) continue;
             tie e;
             tie_geometry(m, t, k, &e);
             for (int ch = 0; ch < nc; ch++) {
-                size_t i1 = tc__ix(t, nc, ch), i2 = tc__ix(e.t2, nc, ch);
-                double flo = lim->b->lo[i2] + e.mu * lim->b->lo[i1], fhi = lim->b->hi[i2] + e.mu * lim->b->hi[i1];
-                double aab, abb, za = ci->cz[tc__ix(e.ca, nc, ch)], zb = ci->cz[tc__ix(e.cb, nc, ch)];
-                edge_ordinates(ci, planes, &e, ch, &aab, &abb);
-                double lambda = dart_lambda(&e, za, zb, aab, abb, flo, fhi, tie_slack(&e, lim->b->tol[ch]));
+                double lambda = edge_lambda(lim, planes, &e, ch);
                 if (lambda < 0 || lambda >= 1) continue;
                 tc__range_scale_group(ci->ws, nc, ci->ws->of_corner[e.ca], ch, lambda, planes);
                 tc__range_scale_group(ci->ws, nc, ci->ws->of_corner[e.cb], ch, lambda, planes);
@@ -203,17 +250,19 @@ static int clamp_tied_channel(const limiter *lim, const tie *e, int ch, double *
     return 1;
 }
 
-/* Limits the cross-boundary ordinates of every edge; marks the triangles whose
- * ordinates changed in `dirty`. */
-static void limit_edges(const limiter *lim, double *coef, uint8_t *dirty) {
+/* Limits the cross-boundary ordinates of the edges of triangles [lo, hi) (a
+ * tied edge from its lower triangle). An edge moves only its own two
+ * ordinates (cab of each side) and reads only edge ordinates, so triangles
+ * may be done on different threads; the notes go to lim's own stats. */
+static void limit_edges(const limiter *lim, double *coef, int32_t lo, int32_t hi) {
     const struct tc_mesh *m = lim->ci->m;
     int nc = m->nc;
     size_t per = (size_t)nc * TC_CT_ORDINATES;
-    for (int32_t t = 0; t < m->nt; t++)
+    for (int32_t t = lo; t < hi; t++)
         for (int k = 0; k < 3; k++) {
             int32_t ea = 3 * t + k;
             if (!is_tied(lim->ci, ea)) {
-                dirty[t] |= (uint8_t)clamp_free(lim, t, k, coef);
+                clamp_free(lim, t, k, coef);
                 continue;
             }
             if (m->nbr[ea] < t) continue;
@@ -222,9 +271,47 @@ static void limit_edges(const limiter *lim, double *coef, uint8_t *dirty) {
             for (int ch = 0; ch < nc; ch++) {
                 double *o = coef + (size_t)t * per + (size_t)ch * TC_CT_ORDINATES;
                 double *o2 = coef + (size_t)e.t2 * per + (size_t)ch * TC_CT_ORDINATES;
-                if (clamp_tied_channel(lim, &e, ch, o, o2)) dirty[t] = dirty[e.t2] = 1;
+                clamp_tied_channel(lim, &e, ch, o, o2);
             }
         }
+}
+
+/* The parts of limit_edges, each with its own stats (merged in order), then
+ * the closing ordinates of every triangle made again: those of a triangle
+ * whose cab did not move come out as they were, bit for bit. */
+typedef struct {
+    const limiter *lim;
+    double *coef;
+    tc__range_stats stats[TC_PARALLEL_MAX];
+} edges_pass;
+
+static void edges_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    edges_pass *ep = ctx;
+    limiter lim = *ep->lim;
+    tc__range_stats_init(&ep->stats[part]);
+    lim.stats = &ep->stats[part];
+    limit_edges(&lim, ep->coef, lo, hi);
+}
+
+static void close_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const edges_pass *ep = ctx;
+    int nc = ep->lim->ci->m->nc;
+    (void)part;
+    for (int32_t t = lo; t < hi; t++)
+        for (int ch = 0; ch < nc; ch++) tc__ct_close(ep->coef + tc__ix(t, nc, ch) * TC_CT_ORDINATES);
+}
+
+static void limit_all_edges(const limiter *lim, double *coef) {
+    const struct tc_mesh *m = lim->ci->m;
+    int threads = lim->ci->threads;
+    edges_pass ep;
+    ep.lim = lim, ep.coef = coef;
+    tc__parallel_for(threads, m->nt, 2048, edges_part, &ep);
+    for (int p = 0; p < tc__parallel_parts(threads, m->nt, 2048); p++) {
+        tc__range_tally_merge(&lim->stats->edges, &ep.stats[p].edges);
+        tc__range_tally_merge(&lim->stats->kinks, &ep.stats[p].kinks);
+    }
+    tc__parallel_for(threads, m->nt, 2048, close_part, &ep);
 }
 
 /* ---- the pipeline ---- */
@@ -237,8 +324,6 @@ int tc__ct_ordinates_ranged(const tc__ct_input *ci, tc_range mode, double *plane
     tc__range_stats stats;
     tc__range_stats_init(&stats);
     int rc = tc__bounds_build(m, ci->ws, ci->cz, planes, ci->tangents, mode, 0, &b);
-    uint8_t *dirty = rc == TC_OK ? tc__calloc((size_t)m->nt, 1) : NULL;
-    if (rc == TC_OK && !dirty) rc = TC_ENOMEM;
     if (rc == TC_OK) rc = tc__range_planes(m, ci->ws, ci->cz, &b, ct_dirs, m, planes, &stats);
     limiter lim = {ci, &b, &stats};
     for (int round = 0; rc == TC_OK && round < DART_ROUNDS; round++) {
@@ -248,13 +333,9 @@ int tc__ct_ordinates_ranged(const tc__ct_input *ci, tc_range mode, double *plane
     }
     if (rc == TC_OK) rc = tc__ct_ordinates(ci, coef, dg);
     if (rc == TC_OK) {
-        limit_edges(&lim, coef, dirty);
-        for (int32_t t = 0; t < m->nt; t++)
-            for (int ch = 0; dirty[t] && ch < m->nc; ch++)
-                tc__ct_close(coef + tc__ix(t, m->nc, ch) * TC_CT_ORDINATES);
+        limit_all_edges(&lim, coef);
         tc__range_warn(m, &stats, mode, dg);
     }
-    free(dirty);
     tc__bounds_free(&b);
     return rc;
 }

@@ -256,7 +256,7 @@ static int twists_build(const struct tc_recon *r, twists *tw) {
     const struct tc_mesh *m = r->m;
     memset(tw, 0, sizeof *tw);
     tw->m = m, tw->planes = r->planes;
-    int rc = tc__wedges_build(m, r->method->honour, &tw->ws);
+    int rc = tc__wedges_build_on(m, r->method->honour, r->opt.threads, &tw->ws);
     if (rc != TC_OK || r->opt.twist != TC_TWIST_ESTIMATE) return rc;
     tw->H = tc__malloc((size_t)tw->ws.nw * (size_t)m->nc, 3 * sizeof *tw->H);
     if (!tw->H) return TC_ENOMEM;

@@ -10,6 +10,7 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh_build.h"
+#include "core/parallel.h"
 
 void tc_mesh_free(tc_mesh *m) {
     if (!m) return;
@@ -31,6 +32,8 @@ void tc_mesh_free(tc_mesh *m) {
     free(m->flag);
     free(m->vstart);
     free(m->vcorner);
+    free(m->dstart);
+    free(m->dtri);
     free(m);
 }
 
@@ -117,6 +120,26 @@ static void warn_dropped(const struct tc_mesh *m, tc_diags *dg) {
                  "the others keep their index", (int)ndropped, list, ndropped > shown ? ", ..." : "");
 }
 
+/* The dropped triangles at each vertex (m->dstart, m->dtri), so that asking
+ * which dropped triangle has an edge costs the vertex's dropped triangles,
+ * not a scan of all (a polyline of many segments that are no edges would
+ * make that quadratic). A triangle repeating a vertex is listed twice there. */
+static int index_dropped(struct tc_mesh *m, const tc_mesh_desc *d) {
+    m->dstart = tc__calloc((size_t)m->nv + 1, sizeof *m->dstart);
+    m->dtri = tc__malloc(3 * (size_t)(m->ngiven - m->nt), sizeof *m->dtri);
+    if (!m->dstart || !m->dtri) return TC_ENOMEM;
+    for (int32_t i = 0; i < m->ngiven; i++)
+        for (int k = 0; m->kept[i] < 0 && k < 3; k++) m->dstart[d->tris[3 * (size_t)i + (size_t)k] + 1]++;
+    for (int32_t v = 0; v < m->nv; v++) m->dstart[v + 1] += m->dstart[v];
+    int32_t *fill = tc__malloc((size_t)m->nv, sizeof *fill);
+    if (!fill) return TC_ENOMEM;
+    memcpy(fill, m->dstart, (size_t)m->nv * sizeof *fill);
+    for (int32_t i = 0; i < m->ngiven; i++)
+        for (int k = 0; m->kept[i] < 0 && k < 3; k++) m->dtri[fill[d->tris[3 * (size_t)i + (size_t)k]]++] = i;
+    free(fill);
+    return TC_OK;
+}
+
 /* The triangles kept (all, or those not degenerate with `drop`), and the
  * given <-> kept index maps when some were dropped. */
 static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_t *bad, int32_t nbad, tc_diags *dg) {
@@ -127,7 +150,7 @@ static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_
     m->tri = tc__malloc((size_t)m->nt * 3, sizeof *m->tri);
     if (!m->tri) return TC_ENOMEM;
     if (nbad == 0) {
-        memcpy(m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
+        tc__parallel_copy(m->threads, m->tri, d->tris, (size_t)m->nt * 3 * sizeof *m->tri);
         return TC_OK;
     }
     m->given = tc__malloc((size_t)m->nt, sizeof *m->given);
@@ -140,7 +163,26 @@ static int keep_triangles(struct tc_mesh *m, const tc_mesh_desc *d, const uint8_
         memcpy(m->tri + 3 * (size_t)t++, d->tris + 3 * (size_t)i, 3 * sizeof *m->tri);
     }
     warn_dropped(m, dg);
-    return TC_OK;
+    return index_dropped(m, d);
+}
+
+/* The triangles checked in parts (no findings: made again in order if any failed). */
+typedef struct {
+    const tc_mesh_desc *d;
+    int drop;
+    uint8_t *bad;
+    int32_t nbad[TC_PARALLEL_MAX];
+    int failed[TC_PARALLEL_MAX];
+} tri_pass;
+
+static void triangles_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    tri_pass *tp = ctx;
+    tp->nbad[part] = 0, tp->failed[part] = 0;
+    for (int32_t t = lo; t < hi; t++) {
+        int degenerate;
+        if (check_triangle(tp->d, t, tp->drop, &degenerate, NULL) != TC_OK) tp->failed[part] = 1;
+        if (tp->drop && degenerate) tp->bad[t] = 1, tp->nbad[part]++;
+    }
 }
 
 /* The triangles as given (less the degenerate ones, with degenerate "drop"),
@@ -154,23 +196,43 @@ static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
     int32_t nbad = 0;
     uint8_t *bad = drop ? tc__calloc((size_t)d->ntris, sizeof *bad) : NULL;
     if (drop && !bad) return TC_ENOMEM;
-    for (int32_t t = 0; t < d->ntris; t++) {
-        int degenerate;
-        if (check_triangle(d, t, drop, &degenerate, dg) != TC_OK) rc = TC_EINVAL;
-        if (drop && degenerate) bad[t] = 1, nbad++;
+    tri_pass tp = {d, drop, bad, {0}, {0}};
+    tc__parallel_for(d->threads, d->ntris, 4096, triangles_part, &tp);
+    int parts = tc__parallel_parts(d->threads, d->ntris, 4096);
+    for (int p = 0; p < parts; p++) {
+        nbad += tp.nbad[p];
+        if (tp.failed[p]) rc = TC_EINVAL;
     }
+    if (rc != TC_OK) /* again in order, for the findings */
+        for (int32_t t = 0; t < d->ntris; t++) {
+            int degenerate;
+            check_triangle(d, t, drop, &degenerate, dg);
+        }
     if (rc == TC_OK) rc = keep_triangles(m, d, bad, nbad, dg);
     free(bad);
     return rc;
 }
 
 int32_t tc__dropped_with_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t a, int32_t b) {
-    for (int32_t i = 0; m->kept && i < m->ngiven; i++) {
+    if (!m->dstart) return -1;
+    for (int32_t j = m->dstart[a]; j < m->dstart[a + 1]; j++) {
+        int32_t i = m->dtri[j];
         const int32_t *v = d->tris + 3 * (size_t)i;
-        int has_a = v[0] == a || v[1] == a || v[2] == a, has_b = v[0] == b || v[1] == b || v[2] == b;
-        if (m->kept[i] < 0 && has_a && has_b) return i;
+        if (v[0] == b || v[1] == b || v[2] == b) return i; /* the first: the lowest given index */
     }
     return -1;
+}
+
+static void orient_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    struct tc_mesh *m = ctx;
+    (void)part;
+    for (int32_t t = lo; t < hi; t++) {
+        const int32_t *v = m->tri + 3 * (size_t)t;
+        double e1[2], e2[2];
+        tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
+        tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
+        m->orient[t] = tc__cross(e1, e2) > 0 ? 1 : -1;
+    }
 }
 
 static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
@@ -179,14 +241,8 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
     m->xy = tc__malloc((size_t)m->nv * 2, sizeof *m->xy);
     m->orient = tc__malloc((size_t)m->nt, sizeof *m->orient);
     if (!m->xy || !m->orient) return TC_ENOMEM;
-    memcpy(m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
-    for (int32_t t = 0; t < m->nt; t++) {
-        const int32_t *v = m->tri + 3 * (size_t)t;
-        double e1[2], e2[2];
-        tc__sub(e1, tc__vxy(m, v[1]), tc__vxy(m, v[0]));
-        tc__sub(e2, tc__vxy(m, v[2]), tc__vxy(m, v[0]));
-        m->orient[t] = tc__cross(e1, e2) > 0 ? 1 : -1;
-    }
+    tc__parallel_copy(m->threads, m->xy, d->xy, (size_t)m->nv * 2 * sizeof *m->xy);
+    tc__parallel_for(m->threads, m->nt, 4096, orient_part, m);
     return TC_OK;
 }
 
@@ -196,16 +252,37 @@ static int copy_geometry(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
  * (docs/stability.md: the ordinates vary by |g| L along it, by |g| h across). */
 #define ASPECT_WARN 1e4
 
-/* One warning for all the slivers, naming the worst. */
-static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
+/* The slivers of triangles [lo, hi): how many, and the first worst. */
+typedef struct {
+    const struct tc_mesh *m;
+    int32_t n[TC_PARALLEL_MAX], worst[TC_PARALLEL_MAX];
+    double worst_ar[TC_PARALLEL_MAX];
+} sliver_pass;
+
+static void slivers_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    sliver_pass *sp = ctx;
     int32_t n = 0, worst = -1;
     double worst_ar = 0;
-    for (int32_t t = 0; t < m->nt; t++) {
-        double ar = tc__face_aspect(m, t);
+    for (int32_t t = lo; t < hi; t++) {
+        double ar = tc__face_aspect(sp->m, t);
         if (ar <= ASPECT_WARN) continue;
         if (isnan(ar)) ar = INFINITY; /* coordinates near the double range: the area overflows */
         n++;
         if (worst < 0 || ar > worst_ar) worst_ar = ar, worst = t;
+    }
+    sp->n[part] = n, sp->worst[part] = worst, sp->worst_ar[part] = worst_ar;
+}
+
+/* One warning for all the slivers, naming the worst (the first of the largest). */
+static void warn_slivers(const struct tc_mesh *m, tc_diags *dg) {
+    int32_t n = 0, worst = -1;
+    double worst_ar = 0;
+    sliver_pass sp;
+    sp.m = m;
+    tc__parallel_for(m->threads, m->nt, 4096, slivers_part, &sp);
+    for (int p = 0; p < tc__parallel_parts(m->threads, m->nt, 4096); p++) {
+        n += sp.n[p];
+        if (sp.worst[p] >= 0 && (worst < 0 || sp.worst_ar[p] > worst_ar)) worst_ar = sp.worst_ar[p], worst = sp.worst[p];
     }
     if (!n) return;
     char path[48], size[64];
@@ -239,6 +316,7 @@ static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     m->nq = d->ntris > 0 ? 0 : d->nquads;
     m->nt = m->nq ? 2 * m->nq : d->ntris;
     m->nc = d->nchan;
+    m->threads = d->threads;
     if (d->degenerate != TC_DEGENERATE_REFUSE && d->degenerate != TC_DEGENERATE_DROP)
         return tc_diags_add(dg, TC_SEV_ERROR, "degenerate", "unknown degenerate mode %d", (int)d->degenerate);
     if ((rc = check_finite_xy(d, dg)) != TC_OK) return rc;
@@ -258,6 +336,8 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags) {
     struct tc_mesh *m = calloc(1, sizeof *m);
     if (!m) return TC_ENOMEM;
     int rc = build(m, desc, diags);
+    free(m->dstart), free(m->dtri); /* only the checks use them */
+    m->dstart = m->dtri = NULL;
     if (rc != TC_OK) {
         tc_mesh_free(m);
         return rc;

@@ -51,6 +51,9 @@ struct tc_mesh {
     int32_t *vcorner;   /*   vcorner[vstart[v] .. vstart[v+1]) */
     int32_t nflagged;   /* interior edges flagged C0 or C-1 */
     int32_t ncorner_overrides; /* corners whose value differs from the vertex value */
+    int threads;        /* threads the build's steps may use (tc_mesh_desc); no effect on any result */
+    int32_t *dstart;    /* while tc_mesh_new runs, if triangles were dropped: CSR [nv+1] of */
+    int32_t *dtri;      /*   the dropped triangles (given index, increasing) at each vertex; else NULL */
 };
 
 /* Quad corner k (0..3) lands on corner (k == 3 ? 2 : k) of triangle 2q, and

@@ -37,9 +37,9 @@ static const tc__option options[] = {
 #define NOPTIONS ((int)(sizeof options / sizeof options[0]))
 
 /* A field added to tc_options without a row here does not compile: every field
- * is an int-sized enum, the method's and one per row. */
-_Static_assert(sizeof(tc_options) == (1 + sizeof options / sizeof options[0]) * sizeof(int),
-               "every field of tc_options but the method needs a row in option_table.c");
+ * is int-sized, the method's, the threads (no option of the result) and one per row. */
+_Static_assert(sizeof(tc_options) == (2 + sizeof options / sizeof options[0]) * sizeof(int),
+               "every field of tc_options but the method and threads needs a row in option_table.c");
 
 const tc__option *tc__option_at(int i) { return i >= 0 && i < NOPTIONS ? &options[i] : NULL; }
 

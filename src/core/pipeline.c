@@ -5,6 +5,7 @@
 
 #include "core/alloc.h"
 #include "core/ct.h"
+#include "core/parallel.h"
 #include "core/pipeline.h"
 #include "core/recon.h"
 #include "core/tangent.h"
@@ -47,12 +48,30 @@ static void ct_scratch_free(ct_scratch *s) {
     free(s->wedge_planes);
 }
 
+/* Each corner's plane is its wedge's: planes[c] = wedge_planes[of_corner[c]]. */
+typedef struct {
+    double *planes;
+    const double *wedge_planes;
+    const int32_t *of_corner;
+    size_t stride;
+} corner_copy;
+
+static void copy_planes(void *ctx, int32_t lo, int32_t hi, int part) {
+    const corner_copy *cc = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) {
+        const double *src = cc->wedge_planes + (size_t)cc->of_corner[c] * cc->stride;
+        double *dst = cc->planes + (size_t)c * cc->stride;
+        for (size_t i = 0; i < cc->stride; i++) dst[i] = src[i];
+    }
+}
+
 /* Wedges delimited per the method's honour (TC_HONOR_*) -> corner inputs ->
  * wedge planes; fills r->planes and leaves the intermediate steps in s. */
 static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     const struct tc_mesh *m = r->m;
     size_t stride = 2 * (size_t)m->nc;
-    int rc = tc__wedges_build(m, r->method->honour, &s->ws);
+    int rc = tc__wedges_build_on(m, r->method->honour, r->opt.threads, &s->ws);
     if (rc != TC_OK) return rc;
     s->cz_own = merged_values(m, &s->ws, &rc);
     if (rc != TC_OK) return rc;
@@ -65,9 +84,8 @@ static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     if (rc != TC_OK) return rc;
     rc = tc__wedge_planes(m, &s->ws, s->inputs, r->opt.wedges, r->opt.average, s->wedge_planes, dg);
     if (rc != TC_OK) return rc;
-    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
-        memcpy(r->planes + c * stride, s->wedge_planes + (size_t)s->ws.of_corner[c] * stride,
-               stride * sizeof *r->planes);
+    corner_copy cc = {r->planes, s->wedge_planes, s->ws.of_corner, stride};
+    tc__parallel_for(r->opt.threads, 3 * m->nt, 4096, copy_planes, &cc);
     return TC_OK;
 }
 
@@ -100,7 +118,8 @@ int tc__ct_build(struct tc_recon *r, tc_diags *dg) {
     if (rc == TC_OK) {
         tc__ct_input ci = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->planes, s.inputs,
                          r->opt.cross_boundary, r->opt.tangents, r->opt.wedges,
-                         r->opt.wedges == TC_WEDGES_CORRECTED && r->opt.average == TC_AVERAGE_AREA};
+                         r->opt.wedges == TC_WEDGES_CORRECTED && r->opt.average == TC_AVERAGE_AREA,
+                         r->opt.threads};
         rc = r->opt.range == TC_RANGE_FREE ? tc__ct_ordinates(&ci, r->coef, dg)
                                            : tc__ct_ordinates_ranged(&ci, r->opt.range, r->planes, r->coef, dg);
     }

@@ -8,6 +8,7 @@
 #include "core/alloc.h"
 #include "core/geom.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/qp.h"
 #include "core/range.h"
 #include "core/recon.h"
@@ -468,21 +469,41 @@ static limited shrink_group(group *G, int32_t w, double *planes) {
     return (limited){lambda, move};
 }
 
-int tc__range_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const tc__bounds *b,
-                     tc__plane_dirs_fn dirs, const void *ctx, double *planes, tc__range_stats *stats) {
+/* One part of the vertices (tc__parallel_for): their wedges' groups (a group
+ * is at one vertex, so a part touches only its own wedges' planes), with its
+ * own work space and tally. */
+typedef struct {
+    const struct tc_mesh *m;
+    const tc__wedge_set *ws;
+    const double *cz;
+    const tc__bounds *b;
+    tc__plane_dirs_fn dirs;
+    const void *ctx;
+    double *planes;
+    tc__range_tally tally[TC_PARALLEL_MAX];
+    int nomem[TC_PARALLEL_MAX];
+} planes_pass;
+
+static void planes_part(void *pctx, int32_t vlo, int32_t vhi, int part) {
+    planes_pass *pp = pctx;
+    const struct tc_mesh *m = pp->m;
+    const tc__wedge_set *ws = pp->ws;
     enum { ROWS_MAX = TC_QP_MAXM };
+    tc__range_tally *tally = &pp->tally[part];
+    memset(tally, 0, sizeof *tally);
     row *rows = malloc(ROWS_MAX * sizeof *rows);
     double *work = malloc((TC_QP_MAXM * TC_QP_MAXN + TC_QP_MAXEQ * TC_QP_MAXN + TC_QP_MAXM) * sizeof *work);
-    if (!rows || !work) {
+    pp->nomem[part] = !rows || !work;
+    if (pp->nomem[part]) {
         free(rows), free(work);
-        return TC_ENOMEM;
+        return;
     }
     group G;
     memset(&G, 0, sizeof G);
-    G.m = m, G.ws = ws, G.cz = cz, G.b = b, G.dirs = dirs, G.ctx = ctx;
+    G.m = m, G.ws = ws, G.cz = pp->cz, G.b = pp->b, G.dirs = pp->dirs, G.ctx = pp->ctx;
     G.rows = rows, G.cap = ROWS_MAX;
     G.C = work, G.Aeq = work + TC_QP_MAXM * TC_QP_MAXN, G.rhs = G.Aeq + TC_QP_MAXEQ * TC_QP_MAXN;
-    for (int32_t w = 0; w < ws->nw; w++) {
+    for (int32_t w = tc__first_wedge_at(ws, vlo), end = tc__first_wedge_at(ws, vhi); w < end; w++) {
         int32_t members[GROUP_MAX];
         int k = group_of(ws, w, members, GROUP_MAX), lowest = 1;
         for (int i = 1; i < k; i++) lowest &= members[i] > w;
@@ -491,12 +512,28 @@ int tc__range_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
             G.ch = ch;
             G.k = k > 0 ? k : 1;
             memcpy(G.w, members, (size_t)G.k * sizeof *members);
-            limited lim = k > 0 && gather_rows(&G) == 0 ? limit_group(&G, planes) : shrink_group(&G, w, planes);
-            if (lim.move > TC_RANGE_MATERIAL * b->span[ch])
-                tc__range_note(&stats->planes, 1 - lim.factor, ws->w[w].v, -1);
+            limited lim = k > 0 && gather_rows(&G) == 0 ? limit_group(&G, pp->planes) : shrink_group(&G, w, pp->planes);
+            if (lim.move > TC_RANGE_MATERIAL * pp->b->span[ch]) tc__range_note(tally, 1 - lim.factor, ws->w[w].v, -1);
         }
     }
     free(rows);
     free(work);
-    return TC_OK;
+}
+
+void tc__range_tally_merge(tc__range_tally *into, const tc__range_tally *part) {
+    int32_t count = into->count + part->count;
+    for (int i = 0; i < part->named; i++) tc__range_note(into, part->size[i], part->where[i], part->edge[i]);
+    into->count = count;
+}
+
+int tc__range_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const tc__bounds *b,
+                     tc__plane_dirs_fn dirs, const void *ctx, double *planes, tc__range_stats *stats) {
+    planes_pass pp = {.m = m, .ws = ws, .cz = cz, .b = b, .dirs = dirs, .ctx = ctx, .planes = planes};
+    tc__parallel_for(ws->threads, m->nv, 4096, planes_part, &pp);
+    int rc = TC_OK;
+    for (int p = 0; p < tc__parallel_parts(ws->threads, m->nv, 4096); p++) {
+        if (pp.nomem[p]) rc = TC_ENOMEM;
+        tc__range_tally_merge(&stats->planes, &pp.tally[p]); /* in vertex order: the serial tally */
+    }
+    return rc;
 }

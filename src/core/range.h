@@ -101,6 +101,13 @@ typedef struct {
 /* Counts one event and keeps it if it is among the TC_RANGE_NAMED largest. */
 void tc__range_note(tc__range_tally *t, double size, int32_t where, int edge);
 void tc__range_stats_init(tc__range_stats *s);
+/* Per channel, the smallest, largest and largest |.| corner value cz[3nt][nc]
+ * (on up to `threads` threads; the values are finite, a mesh invariant). */
+void tc__channel_range(const struct tc_mesh *m, const double *cz, int threads, double *lo, double *hi, double *big);
+/* Adds the tally of a later part of a loop to `into`: the same as if its
+ * events had been noted after into's (the named ones are the largest, ties
+ * kept in the order noted, so merging parts in order gives the serial tally). */
+void tc__range_tally_merge(tc__range_tally *into, const tc__range_tally *part);
 /* The warnings that say what the limiter changed (none if nothing). */
 void tc__range_warn(const struct tc_mesh *m, const tc__range_stats *s, tc_range mode, tc_diags *dg);
 

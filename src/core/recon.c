@@ -9,6 +9,7 @@
 #include "core/assert.h"
 #include "core/mesh.h"
 #include "core/option_table.h"
+#include "core/parallel.h"
 #include "core/range.h"
 #include "core/recon.h"
 
@@ -25,9 +26,9 @@ void tc_recon_free(tc_recon *r) {
 
 /* Steep tangent planes on large triangles, or values near the double range,
  * can overflow the ordinates: refuse the input, naming the triangle. */
-static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
+static int bounded_from(const struct tc_recon *r, int32_t lo, int32_t hi, tc_diags *dg) {
     size_t per_tri = (size_t)r->m->nc * (size_t)r->ncoef;
-    for (int32_t t = 0; t < r->m->nt; t++)
+    for (int32_t t = lo; t < hi; t++)
         for (size_t i = 0; i < per_tri; i++) {
             double c = r->coef[(size_t)t * per_tri + i];
             if (isfinite(c) && fabs(c) <= TC_COEF_MAX) continue;
@@ -44,6 +45,30 @@ static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
                                       "too large"
                                     : "its values are too large");
         }
+    return TC_OK;
+}
+
+/* On threads: each part finds its first unbounded triangle; the first of all
+ * is reported, as the serial scan does. */
+typedef struct {
+    const struct tc_recon *r;
+    int32_t first_bad[TC_PARALLEL_MAX];
+} bounded_pass;
+
+static void bounded_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    bounded_pass *bp = ctx;
+    bp->first_bad[part] = INT32_MAX;
+    for (int32_t t = lo; t < hi && bp->first_bad[part] == INT32_MAX; t++)
+        if (bounded_from(bp->r, t, t + 1, NULL) != TC_OK) bp->first_bad[part] = t;
+}
+
+static int check_bounded(const struct tc_recon *r, tc_diags *dg) {
+    bounded_pass bp;
+    bp.r = r;
+    int threads = r->opt.threads;
+    tc__parallel_for(threads, r->m->nt, 4096, bounded_part, &bp);
+    for (int p = 0; p < tc__parallel_parts(threads, r->m->nt, 4096); p++)
+        if (bp.first_bad[p] != INT32_MAX) return bounded_from(r, bp.first_bad[p], r->m->nt, dg);
     return TC_OK;
 }
 
@@ -79,11 +104,9 @@ static int build(struct tc_recon *r, tc_diags *dg) {
 /* The channels whose data are all >= 0: a restricted range keeps them so. */
 static void set_floors(struct tc_recon *r) {
     const struct tc_mesh *m = r->m;
-    for (int ch = 0; ch < m->nc; ch++) {
-        int nonneg = 1;
-        for (size_t c = 0; c < 3 * (size_t)m->nt && nonneg; c++) nonneg = m->cz[c * (size_t)m->nc + (size_t)ch] >= 0;
-        r->floor0[ch] = (uint8_t)nonneg;
-    }
+    double lo[TC_MAX_CHANNELS], hi[TC_MAX_CHANNELS], big[TC_MAX_CHANNELS];
+    tc__channel_range(m, m->cz, r->opt.threads, lo, hi, big);
+    for (int ch = 0; ch < m->nc; ch++) r->floor0[ch] = (uint8_t)(lo[ch] >= 0);
 }
 
 /* A method that formats "triangles[t]" itself on a quad mesh would name an

@@ -8,6 +8,7 @@
 
 #include "core/alloc.h"
 #include "core/mesh_build.h"
+#include "core/parallel.h"
 
 /* Per-corner entries name elements: triangles (3 corners), or on a quad mesh
  * quads (4 corners, each landing on one or two split-triangle corners). */
@@ -83,6 +84,24 @@ static void put_corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch 
     }
 }
 
+/* The per-corner copies, in parts (each writes its own corners). */
+typedef struct {
+    struct tc_mesh *m;
+    const tc_mesh_desc *d;
+    int failed[TC_PARALLEL_MAX];
+} copy_pass;
+
+static void values_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const copy_pass *cp = ctx;
+    size_t nc = (size_t)cp->m->nc;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) {
+        const double *src = cp->d->values + (size_t)cp->m->tri[c] * nc;
+        double *dst = cp->m->cz + (size_t)c * nc;
+        for (size_t ch = 0; ch < nc; ch++) dst[ch] = src[ch];
+    }
+}
+
 static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
     int nc = m->nc, rc = TC_OK, nk = elem_corners(m);
     char path[64];
@@ -94,8 +113,8 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
     if (rc != TC_OK) return rc;
     m->cz = tc__malloc(3 * (size_t)m->nt * (size_t)nc, sizeof *m->cz);
     if (!m->cz) return TC_ENOMEM;
-    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
-        memcpy(m->cz + c * (size_t)nc, d->values + (size_t)m->tri[c] * (size_t)nc, (size_t)nc * sizeof *m->cz);
+    copy_pass cp = {m, d, {0}};
+    tc__parallel_for(m->threads, 3 * m->nt, 8192, values_part, &cp);
     if (d->ncorner_values == 0) return TC_OK;
     s->cv_src = tc__malloc(3 * (size_t)m->nt, sizeof *s->cv_src);
     if (!s->cv_src) return TC_ENOMEM;
@@ -151,13 +170,14 @@ static int normal_to_gradient(const double *n, int nc, int32_t v, double *g, tc_
     return TC_OK;
 }
 
-/* Per-vertex gradients or normals, copied onto every corner of the vertex. */
-static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+/* Per-vertex gradients or normals of vertices [lo, hi), copied onto every
+ * corner of the vertex (dg may be NULL: vertex_gradients). */
+static int vertex_gradients_of(struct tc_mesh *m, const tc_mesh_desc *d, int32_t lo, int32_t hi, tc_diags *dg) {
     int nc = m->nc, rc = TC_OK;
     size_t stride = 2 * (size_t)nc;
     double g[2 * TC_MAX_CHANNELS];
-    char path[48];
-    for (int32_t v = 0; v < m->nv; v++) {
+    char path[48] = "";
+    for (int32_t v = lo; v < hi; v++) {
         if (d->gradients) {
             if (d->gradients_mask && !d->gradients_mask[v]) continue;
             if (!all_finite(d->gradients + (size_t)v * stride, stride))
@@ -179,11 +199,26 @@ static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
         }
         for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++) {
             int32_t c = m->vcorner[i];
-            memcpy(m->given_grad + (size_t)c * stride, g, stride * sizeof *g);
+            double *to = m->given_grad + (size_t)c * stride;
+            for (size_t j = 0; j < stride; j++) to[j] = g[j];
             m->given_grad_has[c] = 1;
         }
     }
     return rc;
+}
+
+static void gradients_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    copy_pass *cp = ctx;
+    cp->failed[part] = vertex_gradients_of(cp->m, cp->d, lo, hi, NULL) != TC_OK;
+}
+
+/* On threads; if a vertex failed, all again in order for the findings. */
+static int vertex_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
+    copy_pass cp = {m, d, {0}};
+    tc__parallel_for(m->threads, m->nv, 4096, gradients_part, &cp);
+    for (int p = 0; p < tc__parallel_parts(m->threads, m->nv, 4096); p++)
+        if (cp.failed[p]) return vertex_gradients_of(m, d, 0, m->nv, dg);
+    return TC_OK;
 }
 
 /* Corner k of corner_gradients entry i onto the corners of element e. */

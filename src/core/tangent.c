@@ -9,7 +9,9 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/plane.h"
+#include "core/range.h"
 #include "core/tanfit.h"
 #include "core/tangent.h"
 
@@ -94,18 +96,10 @@ typedef struct {
     double range[TC_MAX_CHANNELS]; /* largest - smallest corner value */
 } chan_stats;
 
-static void channel_stats(const struct tc_mesh *m, const double *cz, chan_stats *cs) {
-    int nc = m->nc;
-    for (int ch = 0; ch < nc; ch++) {
-        double lo = INFINITY, hi = -INFINITY, big = 0;
-        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
-            double z = cz[c * (size_t)nc + (size_t)ch];
-            if (z < lo) lo = z; /* finite (a mesh invariant): plain compares, not libm calls */
-            if (z > hi) hi = z;
-            if (fabs(z) > big) big = fabs(z);
-        }
-        cs->scale[ch] = big, cs->range[ch] = m->nt ? hi - lo : 0;
-    }
+static void channel_stats(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, chan_stats *cs) {
+    double lo[TC_MAX_CHANNELS], hi[TC_MAX_CHANNELS];
+    tc__channel_range(m, cz, ws->threads, lo, hi, cs->scale);
+    for (int ch = 0; ch < m->nc; ch++) cs->range[ch] = m->nt ? hi[ch] - lo[ch] : 0;
 }
 
 /* What bounding did to one plane, over the channels where it mattered. */
@@ -204,37 +198,50 @@ static int estimate(const struct tc_mesh *m, const tc__wedge_set *ws, const tc__
     return TC_OK;
 }
 
-int tc__corner_inputs(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, tc_tangents mode,
-                      double *inputs, tc_diags *dg) {
+/* One part of the vertices: the input planes of their wedges' corners, with
+ * its own clamp report, fit space and status (dg NULL: the findings are made
+ * again serially if any part failed). */
+typedef struct {
+    const struct tc_mesh *m;
+    const tc__wedge_set *ws;
+    const double *cz;
+    tc_tangents mode;
+    double *inputs;
+    const chan_stats *cs;
+    clamp_report cr[TC_PARALLEL_MAX];
+    int rc[TC_PARALLEL_MAX];
+} inputs_pass;
+
+static int wedge_inputs(const inputs_pass *ip, int32_t w0, int32_t w1, clamp_report *cr, tc_diags *dg) {
+    const struct tc_mesh *m = ip->m;
+    const tc__wedge_set *ws = ip->ws;
     size_t stride = 2 * (size_t)m->nc;
     int rc = TC_OK;
-    clamp_report cr;
-    memset(&cr, 0, sizeof cr);
-    chan_stats cs;
     tc__fit_space fs = {0};
-    channel_stats(m, cz, &cs);
-    for (int32_t w = 0; w < ws->nw && rc != TC_ENOMEM; w++) {
+    for (int32_t w = w0; w < w1 && rc != TC_ENOMEM; w++) {
         const tc__wedge *wd = &ws->w[w];
         double est[2 * TC_MAX_CHANNELS];
         int estimated = 0;
         for (int32_t i = 0; i < wd->count; i++) {
             int32_t c = ws->corners[wd->first + i];
-            double *g = inputs + (size_t)c * stride;
-            switch (source_of(m, c, mode, dg)) {
-            case SRC_GIVEN: memcpy(g, m->given_grad + (size_t)c * stride, stride * sizeof *g); break;
+            double *g = ip->inputs + (size_t)c * stride;
+            switch (source_of(m, c, ip->mode, dg)) {
+            case SRC_GIVEN:
+                for (size_t j = 0; j < stride; j++) g[j] = m->given_grad[(size_t)c * stride + j];
+                break;
             case SRC_MIDPOINTS:
-                from_midpoints(m, cz, c, g);
-                note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, g), wd->v, 0);
+                from_midpoints(m, ip->cz, c, g);
+                note_clamp(cr, bound_plane(m, ws, wd, ip->cz, ip->cs, g), wd->v, 0);
                 break;
             case SRC_ESTIMATE: /* one fit per wedge, shared by its corners */
                 if (!estimated++) {
-                    if (estimate(m, ws, wd, cz, &fs, est) != TC_OK) {
+                    if (estimate(m, ws, wd, ip->cz, &fs, est) != TC_OK) {
                         rc = TC_ENOMEM;
                         break;
                     }
-                    note_clamp(&cr, bound_plane(m, ws, wd, cz, &cs, est), wd->v, 1);
+                    note_clamp(cr, bound_plane(m, ws, wd, ip->cz, ip->cs, est), wd->v, 1);
                 }
-                memcpy(g, est, stride * sizeof *g);
+                for (size_t j = 0; j < stride; j++) g[j] = est[j];
                 break;
             default: rc = TC_EINVAL;
             }
@@ -242,6 +249,45 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc__wedge_set *ws, const do
         }
     }
     tc__fit_space_free(&fs);
-    if (rc == TC_OK) warn_clamps(&cr, dg);
     return rc;
+}
+
+static void inputs_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    inputs_pass *ip = ctx;
+    memset(&ip->cr[part], 0, sizeof ip->cr[part]);
+    ip->rc[part] = wedge_inputs(ip, tc__first_wedge_at(ip->ws, lo), tc__first_wedge_at(ip->ws, hi), &ip->cr[part], NULL);
+}
+
+/* Appends a later part's clamp report: as if its planes had been noted after
+ * into's (the first listed, the first largest). */
+static void merge_clamps(clamp_report *into, const clamp_report *part) {
+    int32_t n = part->count[0] + part->count[1];
+    if (n && (into->count[0] + into->count[1] == 0 || part->worst.fx.moved > into->worst.fx.moved))
+        into->worst = part->worst;
+    into->count[0] += part->count[0], into->count[1] += part->count[1];
+    for (int i = 0; i < part->nlist; i++)
+        if (into->nlist < CLAMP_LIST && (into->nlist == 0 || into->list[into->nlist - 1].v != part->list[i].v))
+            into->list[into->nlist++] = part->list[i];
+}
+
+int tc__corner_inputs(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, tc_tangents mode,
+                      double *inputs, tc_diags *dg) {
+    chan_stats cs;
+    channel_stats(m, ws, cz, &cs);
+    inputs_pass ip = {.m = m, .ws = ws, .cz = cz, .mode = mode, .inputs = inputs, .cs = &cs};
+    tc__parallel_for(ws->threads, m->nv, 4096, inputs_part, &ip);
+    clamp_report cr;
+    memset(&cr, 0, sizeof cr);
+    int rc = TC_OK;
+    for (int p = 0; p < tc__parallel_parts(ws->threads, m->nv, 4096); p++) {
+        if (ip.rc[p] == TC_ENOMEM) return TC_ENOMEM;
+        if (ip.rc[p] != TC_OK) rc = ip.rc[p];
+        merge_clamps(&cr, &ip.cr[p]);
+    }
+    if (rc != TC_OK) { /* again in order, for the findings */
+        memset(&cr, 0, sizeof cr);
+        return wedge_inputs(&ip, 0, ws->nw, &cr, dg);
+    }
+    warn_clamps(&cr, dg);
+    return TC_OK;
 }

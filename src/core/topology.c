@@ -8,6 +8,7 @@
 #include "core/alloc.h"
 #include "core/geom.h"
 #include "core/mesh_build.h"
+#include "core/parallel.h"
 
 /* Corners of each vertex, in increasing triangle order (a counting sort). */
 static int build_vertex_corners(struct tc_mesh *m) {
@@ -45,23 +46,111 @@ static double side_of_third(const struct tc_mesh *m, int32_t t, int k, int32_t a
     return tc__cross(e, d);
 }
 
-/* Finds the triangles other than t on edge (a, b) of t (edge k) and links the
- * first. Reports repeats, non-manifold edges (once, from the lowest triangle)
- * and folds. */
-static int link_edge(struct tc_mesh *m, int32_t t, int k, tc_diags *dg) {
-    int32_t a = m->tri[3 * (size_t)t + (size_t)k], b = m->tri[3 * (size_t)t + (size_t)(k + 1) % 3];
-    int32_t others[2] = {-1, -1}, nothers = 0, lowest = t;
-    char path[48];
-    for (int32_t i = m->vstart[a]; i < m->vstart[a + 1]; i++) {
-        int32_t t2 = m->vcorner[i] / 3;
-        if (t2 == t || edge_index(m, t2, a, b) < 0) continue;
-        if (nothers < 2) others[nothers] = t2;
-        nothers++;
-        if (t2 < lowest) lowest = t2;
+/* The other triangles on each edge side e = 3t+k, found per vertex in
+ * O(its corners log its corners) rather than by a scan of the vertex's corners
+ * per edge (quadratic in the valence): at vertex a, the edges of its corners
+ * to each b > a are sorted by (b, e), so each edge's sides come together in
+ * increasing triangle order, as the corner lists have them. Per side: the
+ * first two others (-1: none) and how many there are. */
+typedef struct {
+    struct tc_mesh *m;
+    int32_t *oth0, *oth1, *noth;
+    int32_t max_pairs;      /* 2 x the largest valence */
+    int32_t *scratch[TC_PARALLEL_MAX];
+    int failed[TC_PARALLEL_MAX]; /* a part ran out of memory, or met a bad edge */
+} edge_sides;
+
+typedef struct {
+    int32_t b, e;
+} side_pair;
+
+static int pair_cmp(const void *x, const void *y) {
+    const side_pair *p = x, *q = y;
+    if (p->b != q->b) return p->b < q->b ? -1 : 1;
+    return (p->e > q->e) - (p->e < q->e);
+}
+
+static void sort_pairs(side_pair *sp, int32_t n) {
+    if (n > 24) {
+        qsort(sp, (size_t)n, sizeof *sp, pair_cmp);
+        return;
     }
+    for (int32_t i = 1; i < n; i++) { /* few: insertion sort */
+        side_pair x = sp[i];
+        int32_t j = i;
+        for (; j > 0 && pair_cmp(&sp[j - 1], &x) > 0; j--) sp[j] = sp[j - 1];
+        sp[j] = x;
+    }
+}
+
+/* Sides E[0..n) of one edge, in increasing triangle order. */
+static void note_group(const edge_sides *es, const side_pair *E, int32_t n) {
+    for (int32_t i = 0; i < n; i++) {
+        int32_t e = E[i].e;
+        es->oth0[e] = n > 1 ? E[i == 0 ? 1 : 0].e : -1;
+        es->oth1[e] = n > 2 ? E[i <= 1 ? 2 : 1].e : -1;
+        es->noth[e] = n - 1;
+    }
+}
+
+static void sides_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    edge_sides *es = ctx;
+    const struct tc_mesh *m = es->m;
+    side_pair *sp = (side_pair *)es->scratch[part];
+    for (int32_t a = lo; a < hi; a++) {
+        int32_t n = 0;
+        for (int32_t i = m->vstart[a]; i < m->vstart[a + 1]; i++) {
+            int32_t c = m->vcorner[i], t = c / 3, k = c % 3;
+            int32_t next = m->tri[3 * (size_t)t + (size_t)(k + 1) % 3], prev = m->tri[3 * (size_t)t + (size_t)(k + 2) % 3];
+            if (next > a) sp[n++] = (side_pair){next, 3 * t + k};
+            if (prev > a) sp[n++] = (side_pair){prev, 3 * t + (k + 2) % 3};
+        }
+        sort_pairs(sp, n);
+        for (int32_t i = 0, j; i < n; i = j) {
+            for (j = i + 1; j < n && sp[j].b == sp[i].b; j++) continue;
+            note_group(es, sp + i, j - i);
+        }
+    }
+}
+
+static int find_sides(struct tc_mesh *m, edge_sides *es) {
+    size_t nc = 3 * (size_t)m->nt;
+    int32_t maxval = 0;
+    for (int32_t v = 0; v < m->nv; v++)
+        if (m->vstart[v + 1] - m->vstart[v] > maxval) maxval = m->vstart[v + 1] - m->vstart[v];
+    es->m = m;
+    es->max_pairs = 2 * maxval;
+    es->oth0 = tc__malloc(nc, sizeof *es->oth0);
+    es->oth1 = tc__malloc(nc, sizeof *es->oth1);
+    es->noth = tc__malloc(nc, sizeof *es->noth);
+    if (!es->oth0 || !es->oth1 || !es->noth) return TC_ENOMEM;
+    int parts = tc__parallel_parts(m->threads, m->nv, 4096);
+    for (int p = 0; p < parts; p++) {
+        es->scratch[p] = tc__malloc((size_t)es->max_pairs, sizeof(side_pair));
+        if (!es->scratch[p]) return TC_ENOMEM;
+    }
+    tc__parallel_for(m->threads, m->nv, 4096, sides_part, es);
+    return TC_OK;
+}
+
+static void sides_free(edge_sides *es) {
+    free(es->oth0), free(es->oth1), free(es->noth);
+    for (int p = 0; p < TC_PARALLEL_MAX; p++) free(es->scratch[p]);
+}
+
+/* Links edge k of t to the first other triangle on it (es). Reports repeats,
+ * non-manifold edges (once, from the lowest triangle) and folds; dg may be
+ * NULL (the parallel pass: the findings are made again, in order, if any). */
+static int link_edge(struct tc_mesh *m, const edge_sides *es, int32_t t, int k, tc_diags *dg) {
+    int32_t a = m->tri[3 * (size_t)t + (size_t)k], b = m->tri[3 * (size_t)t + (size_t)(k + 1) % 3];
+    size_t e = 3 * (size_t)t + (size_t)k;
+    int32_t nothers = es->noth[e];
+    char path[48];
     if (nothers == 0) return TC_OK;
+    int32_t others[2] = {es->oth0[e] / 3, es->oth1[e] >= 0 ? es->oth1[e] / 3 : -1};
+    int32_t lowest = others[0] < t ? others[0] : t; /* the sides come in increasing triangle order */
     int32_t t2 = others[0];
-    int k2 = edge_index(m, t2, a, b);
+    int k2 = es->oth0[e] % 3;
     int32_t w = m->tri[3 * (size_t)t + (size_t)(k + 2) % 3];
     char other[48];
     if (tc__corner_of(m, t2, w) >= 0) {
@@ -121,44 +210,115 @@ static int fan_step(const struct tc_mesh *m, int32_t v, int32_t *c, int32_t *w) 
  * triangles than that turn: the others overlap it (the fan covers every
  * direction from v), which no edge test sees when they share only v. Each
  * walk starts at an unmarked corner and marks its fan both ways, so every
- * corner is visited once: O(corners). */
-static int check_fans(const struct tc_mesh *m, tc_diags *dg) {
+ * corner is visited once: O(corners). seen[] holds marks of v's corners only,
+ * so vertices may be checked on different threads. */
+static int check_fan(const struct tc_mesh *m, int32_t v, int32_t *seen, tc_diags *dg) {
+    int32_t count = m->vstart[v + 1] - m->vstart[v];
+    for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++) {
+        int32_t c0 = m->vcorner[i], n = 1, c = c0, k0 = c0 % 3;
+        int32_t p0 = m->tri[3 * (size_t)(c0 / 3) + (size_t)(k0 + 1) % 3], q0 = m->tri[3 * (size_t)(c0 / 3) + (size_t)(k0 + 2) % 3];
+        if (seen[c0] == v + 1) continue;
+        seen[c0] = v + 1;
+        int32_t w = q0; /* as if entered across v-q0: leaves across v-p0 */
+        while (fan_step(m, v, &c, &w) && seen[c] != v + 1) seen[c] = v + 1, n++;
+        int closed = c == c0 && seen[c] == v + 1 && n > 1;
+        if (!closed) { /* open: mark the rest of this fan, behind c0 */
+            c = c0, w = p0;
+            while (fan_step(m, v, &c, &w) && seen[c] != v + 1) seen[c] = v + 1;
+            continue;
+        }
+        if (n == count) continue;
+        /* Name a triangle outside this fan: mark the fan apart (-(v + 1)) and take one
+         * corner of v that is not in it (an earlier walk may have marked the others). */
+        c = c0, w = q0, seen[c0] = -(v + 1);
+        while (fan_step(m, v, &c, &w) && seen[c] != -(v + 1)) seen[c] = -(v + 1);
+        int32_t other = -1;
+        for (int32_t j = m->vstart[v]; j < m->vstart[v + 1] && other < 0; j++)
+            if (seen[m->vcorner[j]] != -(v + 1)) other = m->vcorner[j] / 3;
+        char path[48];
+        tc__elem_path(m, other, path, sizeof path);
+        return tc_diags_add(dg, TC_SEV_ERROR, path,
+                            "overlaps the triangles around vertex %d: %d of them close a full turn around it, so "
+                            "any other triangle at that vertex lies on top of one of them",
+                            (int)v, (int)n);
+    }
+    return TC_OK;
+}
+
+/* The parallel passes: each part notes the first index at which it failed
+ * (INT32_MAX: none), and the first over all parts is made again with the
+ * diagnostics, so the finding is the serial one. */
+typedef struct {
+    struct tc_mesh *m;
+    const edge_sides *es;
+    int32_t *seen;
+    int32_t first_bad[TC_PARALLEL_MAX];
+} topo_pass;
+
+static void link_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    topo_pass *tp = ctx;
+    tp->first_bad[part] = INT32_MAX;
+    for (int32_t t = lo; t < hi; t++)
+        for (int k = 0; k < 3; k++)
+            if (link_edge(tp->m, tp->es, t, k, NULL) != TC_OK && tp->first_bad[part] == INT32_MAX)
+                tp->first_bad[part] = t;
+}
+
+static void fans_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    topo_pass *tp = ctx;
+    tp->first_bad[part] = INT32_MAX;
+    for (int32_t v = lo; v < hi && tp->first_bad[part] == INT32_MAX; v++)
+        if (check_fan(tp->m, v, tp->seen, NULL) != TC_OK) tp->first_bad[part] = v;
+}
+
+static int32_t first_bad(const topo_pass *tp, int parts) {
+    int32_t first = INT32_MAX;
+    for (int p = 0; p < parts; p++)
+        if (tp->first_bad[p] < first) first = tp->first_bad[p];
+    return first;
+}
+
+/* Every edge linked; on a bad one, all the findings again in triangle order
+ * (each edge reports for itself, so every error is reported, as it was serially). */
+static int link_edges(struct tc_mesh *m, const edge_sides *es, tc_diags *dg) {
+    topo_pass tp = {m, es, NULL, {0}};
+    tc__parallel_for(m->threads, m->nt, 2048, link_part, &tp);
+    int32_t bad = first_bad(&tp, tc__parallel_parts(m->threads, m->nt, 2048));
+    if (bad == INT32_MAX) return TC_OK;
+    int rc = TC_OK;
+    for (int32_t t = bad; t < m->nt; t++)
+        for (int k = 0; k < 3; k++)
+            if (link_edge(m, es, t, k, dg) != TC_OK) rc = TC_EINVAL;
+    return rc;
+}
+
+/* The fans; the serial check stops at the first vertex found bad. */
+static int check_fans(struct tc_mesh *m, tc_diags *dg) {
     int32_t *seen = tc__calloc(3 * (size_t)m->nt, sizeof *seen);
     if (!seen) return TC_ENOMEM;
+    topo_pass tp = {m, NULL, seen, {0}};
+    tc__parallel_for(m->threads, m->nv, 4096, fans_part, &tp);
+    int32_t bad = first_bad(&tp, tc__parallel_parts(m->threads, m->nv, 4096));
     int rc = TC_OK;
-    for (int32_t v = 0; v < m->nv && rc == TC_OK; v++) {
-        int32_t count = m->vstart[v + 1] - m->vstart[v];
-        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1] && rc == TC_OK; i++) {
-            int32_t c0 = m->vcorner[i], n = 1, c = c0, k0 = c0 % 3;
-            int32_t p0 = m->tri[3 * (size_t)(c0 / 3) + (size_t)(k0 + 1) % 3], q0 = m->tri[3 * (size_t)(c0 / 3) + (size_t)(k0 + 2) % 3];
-            if (seen[c0] == v + 1) continue;
-            seen[c0] = v + 1;
-            int32_t w = q0; /* as if entered across v-q0: leaves across v-p0 */
-            while (fan_step(m, v, &c, &w) && seen[c] != v + 1) seen[c] = v + 1, n++;
-            int closed = c == c0 && seen[c] == v + 1 && n > 1;
-            if (!closed) { /* open: mark the rest of this fan, behind c0 */
-                c = c0, w = p0;
-                while (fan_step(m, v, &c, &w) && seen[c] != v + 1) seen[c] = v + 1;
-                continue;
-            }
-            if (n == count) continue;
-            /* Name a triangle outside this fan: mark the fan apart (-(v + 1)) and take one
-             * corner of v that is not in it (an earlier walk may have marked the others). */
-            c = c0, w = q0, seen[c0] = -(v + 1);
-            while (fan_step(m, v, &c, &w) && seen[c] != -(v + 1)) seen[c] = -(v + 1);
-            int32_t other = -1;
-            for (int32_t j = m->vstart[v]; j < m->vstart[v + 1] && other < 0; j++)
-                if (seen[m->vcorner[j]] != -(v + 1)) other = m->vcorner[j] / 3;
-            char path[48];
-            tc__elem_path(m, other, path, sizeof path);
-            rc = tc_diags_add(dg, TC_SEV_ERROR, path,
-                              "overlaps the triangles around vertex %d: %d of them close a full turn around it, so "
-                              "any other triangle at that vertex lies on top of one of them",
-                              (int)v, (int)n);
-        }
+    if (bad != INT32_MAX) { /* again with the findings, its corners unmarked */
+        for (int32_t i = m->vstart[bad]; i < m->vstart[bad + 1]; i++) seen[m->vcorner[i]] = 0;
+        rc = check_fan(m, bad, seen, dg);
+        TC_ASSERT(rc != TC_OK);
     }
     free(seen);
     return rc;
+}
+
+static void unlinked_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    struct tc_mesh *m = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) m->nbr[c] = -1;
+}
+
+static void flags_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    struct tc_mesh *m = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) m->flag[c] = m->nbr[c] >= 0 ? TC_C1 : TC_CM1;
 }
 
 int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
@@ -169,17 +329,23 @@ int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     m->nbr_k = tc__calloc(nc, sizeof *m->nbr_k);
     m->flag = tc__malloc(nc, sizeof *m->flag);
     if (!m->nbr || !m->nbr_k || !m->flag) return TC_ENOMEM;
-    for (size_t c = 0; c < nc; c++) m->nbr[c] = -1;
-    for (int32_t t = 0; t < m->nt; t++)
-        for (int k = 0; k < 3; k++)
-            if (link_edge(m, t, k, dg) != TC_OK) rc = TC_EINVAL;
+    tc__parallel_for(m->threads, (int32_t)nc, 16384, unlinked_part, m);
+    edge_sides es;
+    memset(&es, 0, sizeof es);
+    rc = find_sides(m, &es);
+    if (rc == TC_OK) rc = link_edges(m, &es, dg);
+    sides_free(&es);
     if (rc != TC_OK) return rc;
     if ((rc = check_fans(m, dg)) != TC_OK) return rc;
-    for (size_t c = 0; c < nc; c++) m->flag[c] = m->nbr[c] >= 0 ? TC_C1 : TC_CM1;
+    tc__parallel_for(m->threads, (int32_t)nc, 16384, flags_part, m);
     return TC_OK;
 }
 
 int32_t tc__find_edge(const struct tc_mesh *m, int32_t a, int32_t b) {
+    if (m->vstart[b + 1] - m->vstart[b] < m->vstart[a + 1] - m->vstart[a]) { /* both lists hold the edge's */
+        int32_t s = a;                                                       /* triangles in increasing order */
+        a = b, b = s;
+    }
     for (int32_t i = m->vstart[a]; i < m->vstart[a + 1]; i++) {
         int32_t c = m->vcorner[i], t = c / 3;
         int k = edge_index(m, t, a, b);
@@ -200,11 +366,13 @@ typedef struct {
 
 static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j, int32_t p, int32_t q,
                         tc_diags *dg) {
-    char path[64];
-    snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)line, (int)j);
-    if (p == q)
+    char path[64]; /* formatted only for a finding: a clean segment costs an edge look-up */
+#define SEGMENT_PATH() snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)line, (int)j)
+    if (p == q && SEGMENT_PATH() > 0)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] repeats a vertex", (int)p, (int)q);
     int32_t c = tc__find_edge(m, p, q), dropped = c < 0 ? tc__dropped_with_edge(m, fc->d, p, q) : -1;
+    if (c < 0 || tc__is_diagonal(m, c) || (fc->src[c] >= 0 && fc->src_kind[c] != fc->kind)) SEGMENT_PATH();
+#undef SEGMENT_PATH
     if (dropped >= 0) /* nothing left to flag: the edge went with the triangle */
         return tc_diags_add(dg, TC_SEV_WARNING, path,
                             "segment [%d, %d] is an edge only of triangles dropped as degenerate (triangles[%d]): "

@@ -6,6 +6,7 @@
 #include "core/assert.h"
 #include "core/geom.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/wedge.h"
 
 void tc__wedges_free(tc__wedge_set *ws) {
@@ -115,8 +116,10 @@ static void build_wedge(const struct tc_mesh *m, tc__wedge_set *ws, int32_t v, i
 }
 
 /* Links each C0 side to the wedge across it. */
-static void link_across(const struct tc_mesh *m, tc__wedge_set *ws) {
-    for (int32_t i = 0; i < ws->nw; i++) {
+/* Wedges [lo, hi): the wedge across each C0 side; returns how many have one. */
+static int32_t link_across(const struct tc_mesh *m, tc__wedge_set *ws, int32_t lo, int32_t hi) {
+    int32_t ncoupled = 0;
+    for (int32_t i = lo; i < hi; i++) {
         tc__wedge *w = &ws->w[i];
         for (int s = 0; s < 2; s++) {
             if (w->side_kind[s] != TC_C0 || w->side_edge[s] < 0) continue;
@@ -128,8 +131,55 @@ static void link_across(const struct tc_mesh *m, tc__wedge_set *ws) {
             }
             w->across[s] = other;
         }
-        if (w->across[0] >= 0 || w->across[1] >= 0) ws->ncoupled++;
+        if (w->across[0] >= 0 || w->across[1] >= 0) ncoupled++;
     }
+    return ncoupled;
+}
+
+/* The parallel build: part p makes the wedges of vertices [lo, hi) into
+ * w[vstart[lo] ..] (a vertex has at most as many wedges as corners) numbered
+ * from 0, its corners at their serial place (fill = vstart[v] at vertex v);
+ * then the parts' wedges are moved together in order and renumbered, so the
+ * set is the serial one whatever the parts. */
+typedef struct {
+    const struct tc_mesh *m;
+    tc__wedge_set *ws;
+    int32_t deg;
+    int32_t lo[TC_PARALLEL_MAX], nw[TC_PARALLEL_MAX], base[TC_PARALLEL_MAX], ncoupled[TC_PARALLEL_MAX];
+    int nomem[TC_PARALLEL_MAX];
+} wedge_pass;
+
+static void wedges_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    wedge_pass *wp = ctx;
+    const struct tc_mesh *m = wp->m;
+    tc__wedge_set local = *wp->ws;
+    int32_t fill = m->vstart[lo];
+    local.w = wp->ws->w + m->vstart[lo];
+    local.nw = 0;
+    wp->lo[part] = lo;
+    int32_t *buf = tc__malloc(2 * (size_t)wp->deg, sizeof *buf);
+    wp->nomem[part] = !buf;
+    for (int32_t v = lo; v < hi && buf; v++) {
+        local.vclass[v] = classify(m, local.honor_flags, v);
+        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++)
+            if (local.of_corner[m->vcorner[i]] < 0) build_wedge(m, &local, v, m->vcorner[i], buf, wp->deg, &fill);
+    }
+    free(buf);
+    wp->nw[part] = local.nw;
+}
+
+static void renumber_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    wedge_pass *wp = ctx;
+    const struct tc_mesh *m = wp->m;
+    int32_t shift = wp->base[part];
+    (void)hi;
+    TC_ASSERT(wp->lo[part] == lo);
+    for (int32_t i = m->vstart[lo]; i < m->vstart[hi]; i++) wp->ws->of_corner[m->vcorner[i]] += shift;
+}
+
+static void across_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    wedge_pass *wp = ctx;
+    wp->ncoupled[part] = link_across(wp->m, wp->ws, lo, hi);
 }
 
 static int32_t max_degree(const struct tc_mesh *m) {
@@ -139,31 +189,52 @@ static int32_t max_degree(const struct tc_mesh *m) {
     return d;
 }
 
-int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws) {
+int tc__wedges_build_on(const struct tc_mesh *m, int honor_flags, int threads, tc__wedge_set *ws) {
     TC_ASSERT(m && ws);
     TC_ASSERT(honor_flags == TC_HONOR_NONE || honor_flags == TC_HONOR_ALL || honor_flags == TC_HONOR_CM1);
     size_t nc = 3 * (size_t)m->nt;
-    int32_t deg = max_degree(m), fill = 0;
+    int32_t deg = max_degree(m);
     memset(ws, 0, sizeof *ws);
     ws->honor_flags = honor_flags;
+    ws->threads = threads;
     ws->w = tc__malloc(nc, sizeof *ws->w); /* at most one wedge per corner */
     ws->corners = tc__malloc(nc, sizeof *ws->corners);
     ws->of_corner = tc__malloc(nc, sizeof *ws->of_corner);
     ws->vclass = tc__malloc((size_t)m->nv, sizeof *ws->vclass);
-    int32_t *buf = tc__malloc(2 * (size_t)deg, sizeof *buf);
-    if (!ws->w || !ws->corners || !ws->of_corner || !ws->vclass || !buf) {
-        free(buf);
+    if (!ws->w || !ws->corners || !ws->of_corner || !ws->vclass) {
         tc__wedges_free(ws);
         return TC_ENOMEM;
     }
     for (size_t c = 0; c < nc; c++) ws->of_corner[c] = -1;
-    for (int32_t v = 0; v < m->nv; v++) {
-        ws->vclass[v] = classify(m, honor_flags, v);
-        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++)
-            if (ws->of_corner[m->vcorner[i]] < 0) build_wedge(m, ws, v, m->vcorner[i], buf, deg, &fill);
+    wedge_pass wp = {.m = m, .ws = ws, .deg = deg};
+    int parts = tc__parallel_parts(threads, m->nv, 4096);
+    tc__parallel_for(threads, m->nv, 4096, wedges_part, &wp);
+    for (int p = 0; p < parts; p++) {
+        if (wp.nomem[p]) {
+            tc__wedges_free(ws);
+            return TC_ENOMEM;
+        }
+        wp.base[p] = ws->nw;
+        memmove(ws->w + ws->nw, ws->w + m->vstart[wp.lo[p]], (size_t)wp.nw[p] * sizeof *ws->w); /* down: in order */
+        ws->nw += wp.nw[p];
     }
-    free(buf);
-    link_across(m, ws);
+    tc__parallel_for(threads, m->nv, 4096, renumber_part, &wp); /* the same parts: the split depends on n only */
+    tc__parallel_for(threads, ws->nw, 4096, across_part, &wp);
+    for (int p = 0; p < tc__parallel_parts(threads, ws->nw, 4096); p++) ws->ncoupled += wp.ncoupled[p];
     TC_ASSERT_CHECK(tc__wedges_check, m, ws);
     return TC_OK;
+}
+
+int32_t tc__first_wedge_at(const tc__wedge_set *ws, int32_t v) {
+    int32_t lo = 0, hi = ws->nw;
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        if (ws->w[mid].v < v) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws) {
+    return tc__wedges_build_on(m, honor_flags, 1, ws);
 }

@@ -33,6 +33,8 @@ typedef struct {
     int8_t *vclass;      /* [nv] TC_C1, TC_C0 or TC_CM1 */
     int honor_flags;     /* TC_HONOR_*: which interior flags delimit wedges */
     int32_t ncoupled;    /* wedges with a C0 side: work for WedgeNormal steps 3-4 */
+    int threads;         /* threads of the steps that read this set (tc_options.threads); no
+                          * effect on any result */
 } tc__wedge_set;
 
 /* Which interior flags a reconstruction honours (tc__wedges_build's
@@ -53,6 +55,12 @@ static inline int tc__eff_flag(const struct tc_mesh *m, int honor_flags, int32_t
 }
 
 int tc__wedges_build(const struct tc_mesh *m, int honor_flags, tc__wedge_set *ws);
+/* The same on up to `threads` threads (kept in ws->threads for the steps after);
+ * the set is the serial one. */
+int tc__wedges_build_on(const struct tc_mesh *m, int honor_flags, int threads, tc__wedge_set *ws);
+/* The first wedge at a vertex >= v (the wedges are in vertex order; nw if none):
+ * the wedges of vertices [a, b) are [tc__first_wedge_at(a), tc__first_wedge_at(b)). */
+int32_t tc__first_wedge_at(const tc__wedge_set *ws, int32_t v);
 void tc__wedges_free(tc__wedge_set *ws);
 
 /* invariants.c: 0 when ws, built on m, keeps the invariants above (and the

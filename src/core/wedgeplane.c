@@ -14,6 +14,7 @@
 #include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
+#include "core/parallel.h"
 #include "core/plane.h"
 #include "core/tangent.h"
 
@@ -338,6 +339,23 @@ static void vertex_planes(const struct tc_mesh *m, const tc__wedge_set *ws, cons
     }
 }
 
+/* The averages of wedges [lo, hi) (each writes its own entries). */
+typedef struct {
+    const struct tc_mesh *m;
+    const tc__wedge_set *ws;
+    const double *inputs;
+    int by_area;
+    double *out, *area;
+} average_pass;
+
+static void average_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const average_pass *ap = ctx;
+    size_t stride = 2 * (size_t)ap->m->nc;
+    (void)part;
+    for (int32_t w = lo; w < hi; w++)
+        wedge_average(ap->m, ap->ws, &ap->ws->w[w], ap->inputs, ap->by_area, ap->out + (size_t)w * stride, &ap->area[w]);
+}
+
 int tc__wedge_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *inputs, tc_wedges mode,
                      tc_average average, double *out, tc_diags *dg) {
     /* Figure 6 as printed averages unit normals, whatever was asked. */
@@ -346,8 +364,8 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
     size_t stride = 2 * (size_t)nc;
     double *area = malloc(((size_t)ws->nw + 1) * sizeof *area);
     if (!area) return TC_ENOMEM;
-    for (int32_t w = 0; w < ws->nw; w++)
-        wedge_average(m, ws, &ws->w[w], inputs, by_area, out + (size_t)w * stride, &area[w]);
+    average_pass ap = {m, ws, inputs, by_area, out, area};
+    tc__parallel_for(ws->threads, ws->nw, 4096, average_part, &ap);
     double *avg = ws->ncoupled ? malloc((size_t)ws->nw * stride * sizeof *avg) : NULL;
     if (ws->ncoupled == 0 || !avg) { /* no C0 sides: the averages are final */
         free(area);

@@ -128,12 +128,22 @@ static int parse_within(const char *body, size_t len, unsigned expect, const tc_
     return over(res, L[k].path, n, L[k].max, what[k]), REQ_OVER_LIMIT;
 }
 
+/* The threads of the validation and build: the render's (the daemon's worker
+ * count); they change the time only, never a number or a finding. */
+static void use_threads(tc_request *req, const tc_api_limits *lim) {
+    int n = lim && lim->render_threads > 1 ? lim->render_threads : 1;
+    req->desc.threads = n;
+    req->opt.threads = n;
+    for (int i = 0; i < req->nmethods; i++) req->methods[i].threads = n;
+}
+
 /* Parses a request into j->req under the limits: 200, or the status (res says why). */
 static int job_parse(job *j, const char *body, size_t len, unsigned expect, const tc_api_limits *lim,
                      tc_api_result *res, double *t0) {
     int rs = parse_within(body, len, expect, lim, &j->req, res);
     lap(res, TC_PHASE_PARSE, t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
+    use_threads(j->req, lim);
     if (!within_limits(j->req, lim, res) || late(lim, res, "parsing")) return res->status;
     return 200;
 }
@@ -633,6 +643,7 @@ int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_st
     int rs = parse_within(body, len, TC_REQ_MESH | TC_REQ_REFERENCE, lim, &j.req, res);
     lap(res, TC_PHASE_PARSE, &t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
+    use_threads(j.req, lim);
     tc_locator *L = NULL;
     int rc = within_limits(j.req, lim, res) ? tc_mesh_new(&j.req->desc, &j.mesh, &res->diags) : -1;
     if (rc == TC_OK) rc = tc_locator_new(j.mesh, &L);

@@ -18,7 +18,8 @@ extern const char *const tc_phase_names[TC_NPHASES];
 typedef struct {
     int64_t max_vertices, max_triangles, max_points, max_pixels;
     int64_t max_samples; /* pixels x channels of one render: what its answer holds */
-    int render_threads;  /* worker threads for one render (>= 1) */
+    int render_threads;  /* worker threads for one render, and for the validation and
+                          * build of one mesh (>= 1) */
     double deadline_ms;  /* tc_now_ms() time after which work stops; 0 = none */
     tc_budget *memory;   /* requests in flight (--max-memory): a render reserves its peak
                           * here first, or is refused (503, or 413 if it could never fit);

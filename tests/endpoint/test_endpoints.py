@@ -17,7 +17,7 @@ on any failure):
      outside the mesh, and a tile whose centres fall on vertices and edges;
   3. /v1/ordinates (and /v1/evaluate, /v1/render) equal build/tocher byte for byte,
      the "timings" member aside;
-  4. render bytes do not depend on --render-threads;
+  4. render bytes (and ordinates, warnings, errors) do not depend on --render-threads;
   5. a catalogue of bad requests gets the right status and problem document and the
      daemon keeps answering (body, pixel, triangle limits, stalled clients, timeouts);
   6. 8 concurrent clients x 200 mixed requests all get the reference answers, and the
@@ -837,6 +837,19 @@ def section_threads(D):
                                                             [rs[0].body == r.body for r in rs]))
             if fmt == "raw" and mesh_name == "RGB":
                 raws = rs[0].body
+    # the validation and build run on the render threads too: the same ordinates, warnings and errors
+    big = grid_mesh(90)  # 16 200 triangles: every loop in several parts on 2 and 7 threads
+    big["values"] = [math.sin(3 * x + 1) * math.cos(2 * y) for x, y in big["vertices"]]
+    big["discontinuities"] = {"c0": [[45 * 91 + i for i in range(91)]], "c-1": [[i * 91 + 30 for i in range(91)]]}
+    bad = dict(big, triangles=big["triangles"] + [big["triangles"][-1], big["triangles"][7]])
+    for what, doc, want in (("a 16 200-triangle mesh", big, 200), ("it with two repeated triangles", bad, 422)):
+        rs = [post(d, "/v1/ordinates", doc) for d in ds]
+        docs = [json.loads(r.body) for r in rs]
+        for x in docs:
+            x.pop("timings", None)
+        check("ordinates of %s: the same answer with 1, 2 and 7 render threads" % what,
+              all(r.status == want for r in rs) and all(x == docs[0] for x in docs),
+              "statuses %s, equal %s" % ([r.status for r in rs], [x == docs[0] for x in docs]))
     for d in ds:
         rc = d.stop()
         check("daemon %s: SIGTERM -> exit 0, no sanitizer report" % d.name,

@@ -1,0 +1,141 @@
+/* parallel.c — tc__parallel_for: a loop split into contiguous parts, one
+ * thread per part (the caller's thread runs part 0). The threads are a
+ * process-wide pool, started on first use and kept (a build runs some thirty
+ * loops: starting threads for each would cost more than a small loop); a loop
+ * that finds the pool busy with another caller's loop starts its own threads. */
+#include <pthread.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "core/parallel.h"
+
+typedef struct {
+    tc__part_fn fn;
+    void *ctx;
+    int32_t lo, hi;
+    int part;
+} part_job;
+
+static void *run_part(void *arg) {
+    part_job *j = arg;
+    j->fn(j->ctx, j->lo, j->hi, j->part);
+    return NULL;
+}
+
+int tc__parallel_parts(int threads, int32_t n, int32_t min_part) {
+    if (threads <= 1 || n <= 0) return 1;
+    if (threads > TC_PARALLEL_MAX) threads = TC_PARALLEL_MAX;
+    if (min_part < 1) min_part = 1;
+    int32_t most = n / min_part;
+    return most < 1 ? 1 : most < threads ? (int)most : threads;
+}
+
+/* The pool: worker k runs part k + 1 of the loop in hand. `busy` is held by
+ * the one caller using it; the rest is guarded by `mu`. Invariant: pending
+ * counts the parts handed out and not finished; a new loop (gen + 1) starts
+ * only when it is 0, so no worker misses the loop it has a part in. */
+static struct {
+    pthread_mutex_t busy, mu;
+    pthread_cond_t go, done;
+    int nworkers, parts, pending;
+    unsigned long gen;
+    part_job *jobs;
+    pthread_t tid[TC_PARALLEL_MAX];
+} pool = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, PTHREAD_COND_INITIALIZER,
+          0, 0, 0, 0, NULL, {0}};
+
+static void *pool_worker(void *arg) {
+    int part = (int)(intptr_t)arg;
+    unsigned long seen = 0;
+    pthread_mutex_lock(&pool.mu);
+    for (;;) {
+        while (pool.gen == seen) pthread_cond_wait(&pool.go, &pool.mu);
+        seen = pool.gen;
+        if (part >= pool.parts) continue;
+        part_job j = pool.jobs[part];
+        pthread_mutex_unlock(&pool.mu);
+        run_part(&j);
+        pthread_mutex_lock(&pool.mu);
+        if (--pool.pending == 0) pthread_cond_signal(&pool.done);
+    }
+    return NULL;
+}
+
+/* Runs jobs[0 .. parts) on the pool (the caller holds pool.busy): 0, or -1
+ * if it has too few workers and cannot start more (nothing was run). */
+static int pool_run(part_job *jobs, int parts) {
+    while (pool.nworkers < parts - 1) { /* workers only ever join: each keeps its part index */
+        int k = pool.nworkers + 1;
+        if (pthread_create(&pool.tid[k], NULL, pool_worker, (void *)(intptr_t)k) != 0) return -1;
+        pthread_detach(pool.tid[k]);
+        pool.nworkers++;
+    }
+    pthread_mutex_lock(&pool.mu);
+    pool.jobs = jobs, pool.parts = parts, pool.pending = parts - 1;
+    pool.gen++;
+    pthread_cond_broadcast(&pool.go);
+    pthread_mutex_unlock(&pool.mu);
+    run_part(&jobs[0]);
+    pthread_mutex_lock(&pool.mu);
+    while (pool.pending > 0) pthread_cond_wait(&pool.done, &pool.mu);
+    pool.parts = 0;
+    pthread_mutex_unlock(&pool.mu);
+    return 0;
+}
+
+/* Without the pool: one thread per part for this loop. */
+static void own_threads(part_job *jobs, int parts) {
+    pthread_t tid[TC_PARALLEL_MAX];
+    int started[TC_PARALLEL_MAX] = {0};
+    for (int p = 1; p < parts; p++) started[p] = pthread_create(&tid[p], NULL, run_part, &jobs[p]) == 0;
+    run_part(&jobs[0]);
+    for (int p = 1; p < parts; p++) {
+        if (started[p]) pthread_join(tid[p], NULL);
+        else run_part(&jobs[p]);
+    }
+}
+
+void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
+    int parts = tc__parallel_parts(threads, n, min_part);
+    if (n <= 0) return;
+    if (parts == 1) {
+        fn(ctx, 0, n, 0);
+        return;
+    }
+    part_job jobs[TC_PARALLEL_MAX];
+    for (int p = 0; p < parts; p++) /* the split is a function of (n, parts) only */
+        jobs[p] = (part_job){fn, ctx, (int32_t)((int64_t)n * p / parts), (int32_t)((int64_t)n * (p + 1) / parts), p};
+    if (pthread_mutex_trylock(&pool.busy) == 0) {
+        int ran = pool_run(jobs, parts) == 0;
+        pthread_mutex_unlock(&pool.busy);
+        if (ran) return;
+    }
+    own_threads(jobs, parts);
+}
+
+typedef struct {
+    char *dst;
+    const char *src;
+    size_t bytes;
+} copy_job;
+
+enum { COPY_BLOCK = 1 << 16 }; /* bytes per index of the loop */
+
+static void copy_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const copy_job *cj = ctx;
+    size_t from = (size_t)lo * COPY_BLOCK, to = (size_t)hi * COPY_BLOCK;
+    (void)part;
+    if (to > cj->bytes) to = cj->bytes;
+    memcpy(cj->dst + from, cj->src + from, to - from);
+}
+
+void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes) {
+    size_t blocks = (bytes + COPY_BLOCK - 1) / COPY_BLOCK;
+    copy_job cj = {dst, src, bytes};
+    if (blocks > INT32_MAX) threads = 1, blocks = 1, cj.bytes = bytes; /* beyond any mesh: one memcpy */
+    if (blocks <= 1 || threads <= 1) {
+        memcpy(dst, src, bytes);
+        return;
+    }
+    tc__parallel_for(threads, (int32_t)blocks, 16, copy_part, &cj);
+}

@@ -1,0 +1,33 @@
+/* parallel.h — runs a loop over [0, n) in contiguous parts on up to `threads`
+ * threads (parallel.c), for the per-vertex / per-triangle steps of a build. */
+#ifndef TC_CORE_PARALLEL_H
+#define TC_CORE_PARALLEL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* At most this many parts (and threads) for one loop. */
+#define TC_PARALLEL_MAX 64
+
+/* One part: fn(ctx, lo, hi, part) for [lo, hi). Parts are contiguous, in
+ * order (part p covers lower indices than part p + 1), and each runs on one
+ * thread; part 0 on the caller's. A caller keeps whatever a part finds in a
+ * slot of its own (indexed by part) and merges the slots in part order, so
+ * its result does not depend on how many parts there were: counts, the first
+ * or the largest in index order, never a floating-point sum across parts. */
+typedef void (*tc__part_fn)(void *ctx, int32_t lo, int32_t hi, int part);
+
+/* How many parts tc__parallel_for makes of n items on `threads` threads
+ * (threads <= 1: one; small loops are not split: a part has at least
+ * min_part items). */
+int tc__parallel_parts(int threads, int32_t n, int32_t min_part);
+
+/* Runs fn over every part and returns when all are done. A thread that
+ * cannot be started leaves its part to the caller's thread: never a
+ * failure, only less parallel. */
+void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
+
+/* memcpy(dst, src, bytes) in parts (a large copy runs at more than one core's bandwidth). */
+void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes);
+
+#endif

@@ -1,0 +1,303 @@
+/* test_threads.c — the validation (tc_mesh_desc.threads) and the build (tc_options.threads)
+ * on several threads give the serial mesh, ordinates, planes and findings bit for bit,
+ * errors included: the error reported is the one the serial check reports. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "meshgen.h"
+#include "props.h"
+#include "quadgen.h"
+
+/* Everything a validation and build produce that a caller can see. */
+typedef struct {
+    int mesh_rc, recon_rc;
+    tc_diags dg;
+    size_t ncoef, nplanes;
+    double *coef, *planes;
+    int32_t nt;
+    int32_t *nbr; /* [3nt] neighbour across each edge, and its flag in the high bits */
+} outcome;
+
+static void run(const tc_mesh_desc *d0, const tc_options *o0, int threads, outcome *out) {
+    tc_mesh_desc d = *d0;
+    tc_options o = *o0;
+    d.threads = threads, o.threads = threads;
+    memset(out, 0, sizeof *out);
+    tc_diags_init(&out->dg);
+    tc_mesh *m = NULL;
+    tc_recon *r = NULL;
+    out->mesh_rc = tc_mesh_new(&d, &m, &out->dg);
+    if (out->mesh_rc != TC_OK) return;
+    out->nt = tc_mesh_triangle_count(m);
+    out->nbr = malloc(3 * (size_t)out->nt * sizeof *out->nbr);
+    for (int32_t t = 0; t < out->nt; t++)
+        for (int k = 0; k < 3; k++)
+            out->nbr[3 * t + k] = tc_mesh_neighbor(m, t, k, NULL) * 4 + (int32_t)tc_mesh_edge_flag(m, t, k) + 1;
+    out->recon_rc = tc_recon_new(m, &o, &r, &out->dg);
+    if (out->recon_rc == TC_OK) {
+        out->ncoef = (size_t)out->nt * (size_t)tc_mesh_channel_count(m) * (size_t)tc_recon_coef_count(r);
+        out->coef = malloc(out->ncoef * sizeof *out->coef);
+        memcpy(out->coef, tc_recon_coefs(r), out->ncoef * sizeof *out->coef);
+        const double *pl = tc_recon_corner_gradients(r);
+        out->nplanes = pl ? (size_t)out->nt * 3 * (size_t)tc_mesh_channel_count(m) * 2 : 0;
+        out->planes = malloc((out->nplanes ? out->nplanes : 1) * sizeof *out->planes);
+        if (pl) memcpy(out->planes, pl, out->nplanes * sizeof *out->planes);
+    }
+    tc_recon_free(r);
+    tc_mesh_free(m);
+}
+
+static void outcome_free(outcome *o) {
+    tc_diags_free(&o->dg);
+    free(o->coef), free(o->planes), free(o->nbr);
+}
+
+/* The build on 2, 3 and 8 threads equals the serial one bit for bit; returns the
+ * serial mesh status (the caller checks it is what the case means). */
+static int same_on_threads(const char *what, const tc_mesh_desc *d, const tc_options *o) {
+    static const int threads[] = {2, 3, 8};
+    outcome s;
+    run(d, o, 1, &s);
+    for (size_t i = 0; i < sizeof threads / sizeof threads[0]; i++) {
+        outcome p;
+        run(d, o, threads[i], &p);
+        const char *w = what;
+        int n = threads[i];
+        CHECK_MSG(p.mesh_rc == s.mesh_rc && p.recon_rc == s.recon_rc, "%s, %d threads: status %d/%d, serial %d/%d", w,
+                  n, p.mesh_rc, p.recon_rc, s.mesh_rc, s.recon_rc);
+        CHECK_MSG(p.dg.count == s.dg.count && p.dg.errors == s.dg.errors && p.dg.warnings == s.dg.warnings,
+                  "%s, %d threads: %d findings (%d errors), serial %d (%d)", w, n, p.dg.count, p.dg.errors,
+                  s.dg.count, s.dg.errors);
+        for (int j = 0; j < p.dg.count && j < s.dg.count; j++)
+            CHECK_MSG(p.dg.items[j].severity == s.dg.items[j].severity &&
+                          !strcmp(p.dg.items[j].path, s.dg.items[j].path) &&
+                          !strcmp(p.dg.items[j].message, s.dg.items[j].message),
+                      "%s, %d threads: finding %d is %s: %s; serial %s: %s", w, n, j, p.dg.items[j].path,
+                      p.dg.items[j].message, s.dg.items[j].path, s.dg.items[j].message);
+        CHECK_MSG(p.nt == s.nt && (!s.nbr || !memcmp(p.nbr, s.nbr, 3 * (size_t)s.nt * sizeof *s.nbr)),
+                  "%s, %d threads: the topology differs", w, n);
+        CHECK_MSG(p.ncoef == s.ncoef && (!s.coef || !memcmp(p.coef, s.coef, s.ncoef * sizeof *s.coef)),
+                  "%s, %d threads: the ordinates differ", w, n);
+        CHECK_MSG(p.nplanes == s.nplanes && (!s.nplanes || !memcmp(p.planes, s.planes, s.nplanes * sizeof *s.planes)),
+                  "%s, %d threads: the corner planes differ", w, n);
+        outcome_free(&p);
+    }
+    int rc = s.mesh_rc;
+    if (getenv("TC_TEST_SHOW"))
+        for (int j = 0; j < s.dg.count; j++) fprintf(stderr, "    %s: %s: %s\n", what, s.dg.items[j].path, s.dg.items[j].message);
+    outcome_free(&s);
+    return rc;
+}
+
+/* A 130 x 130 jittered grid (33 800 triangles, 17 161 vertices: every loop is split in
+ * several parts on 8 threads) with random C0 and C-1 polylines, 2 channels, gradients
+ * given at some vertices. */
+static void big_mesh(tmesh *g, trng *r) {
+    tmesh_grid(g, 130, 130, 0.3, -1, r);
+    for (int i = 0; i < 12; i++) tmesh_random_line(g, i % 2 ? TC_CM1 : TC_C0, 60, r);
+    tmesh_sample(g, 2, smooth_f, NULL, 1, 0, 0.3);
+}
+
+TEST(threads_build_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 17);
+    tmesh g;
+    big_mesh(&g, &r);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    tc_options o;
+    tc_options_default(&o);
+    CHECK(same_on_threads("clough-tocher", &d, &o) == TC_OK);
+    o.range = TC_RANGE_FREE;
+    CHECK(same_on_threads("clough-tocher, range free", &d, &o) == TC_OK);
+    o.cross_boundary = TC_CROSS_SALESIN, o.wedges = TC_WEDGES_LITERAL, o.average = TC_AVERAGE_NORMALS;
+    CHECK(same_on_threads("salesin literal", &d, &o) == TC_OK);
+    for (int mt = 0; mt < tc_method_count(); mt++) {
+        if (tc_method_quads_only((tc_method)mt)) continue;
+        tc_options_default(&o);
+        o.method = (tc_method)mt;
+        CHECK(same_on_threads(tc_method_name((tc_method)mt), &d, &o) == TC_OK);
+    }
+    tmesh_free(&g);
+}
+
+/* Planes from midpoint samples and estimated ones (the clamp reports merged across
+ * parts), and tangents "given" without gradients (an error per corner). */
+TEST(threads_build_samples_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 19);
+    tmesh g;
+    tmesh_grid(&g, 130, 130, 0.15, -1, &r);
+    for (int i = 0; i < 12; i++) tmesh_random_line(&g, i % 2 ? TC_CM1 : TC_C0, 60, &r);
+    tmesh_sample(&g, 1, wave_f, NULL, 0, 1, 0.3);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    tc_options o;
+    tc_options_default(&o);
+    CHECK(same_on_threads("midpoints", &d, &o) == TC_OK);
+    o.tangents = TC_TANGENTS_ESTIMATE;
+    CHECK(same_on_threads("estimate", &d, &o) == TC_OK);
+    o.range = TC_RANGE_POSITIVE;
+    CHECK(same_on_threads("estimate, positive", &d, &o) == TC_OK);
+    o.tangents = TC_TANGENTS_GIVEN;
+    CHECK(same_on_threads("given, none given", &d, &o) == TC_OK); /* the mesh is fine: the build fails */
+    tmesh_free(&g);
+}
+
+/* Long obtuse triangles (the grid stretched 200 x and sheared) with random values
+ * and steep random gradients: range "local" limits planes, scales them at darts
+ * (the ordered pass after the threaded one) and clamps cross-boundary ordinates. */
+TEST(threads_range_limiter_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 21);
+    tmesh g;
+    big_mesh(&g, &r);
+    for (int32_t i = 0; i < g.nv; i++) {
+        double *p = g.xy + 2 * i;
+        p[0] = 200 * p[0] + 150 * p[1];
+    }
+    for (int32_t i = 0; i < g.nv * g.nc; i++) {
+        g.values[i] = trng_uniform(&r);
+        g.grads[2 * i] = 3 * (trng_uniform(&r) - 0.5), g.grads[2 * i + 1] = 600 * (trng_uniform(&r) - 0.5);
+    }
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    d.ncorner_values = 0; /* the random values replace the generator's jumps */
+    tc_options o;
+    tc_options_default(&o);
+    for (int c = 0; c < 3; c++) {
+        o.cross_boundary = (tc_cross)c;
+        CHECK(same_on_threads(tc_cross_name((tc_cross)c), &d, &o) == TC_OK);
+    }
+    o.method = TC_METHOD_CLOUGH_TOCHER_C1;
+    CHECK(same_on_threads("c1", &d, &o) == TC_OK);
+    tmesh_free(&g);
+}
+
+static void wavy_q(const void *ctx, double x, double y, int ch, double *v, double g[2], double h[3]) {
+    (void)ctx;
+    double s = sin(3 * x + ch), c = cos(2 * y);
+    *v = s * c;
+    g[0] = 3 * cos(3 * x + ch) * c, g[1] = -2 * s * sin(2 * y);
+    h[0] = -9 * s * c, h[1] = -6 * cos(3 * x + ch) * sin(2 * y), h[2] = -4 * s * c;
+}
+
+/* A quad mesh (hermite, and the triangle methods on its split): 2 x 100 x 100 triangles. */
+TEST(threads_quads_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 22);
+    qmesh q;
+    qgrid_opts go = {0.1, 0, {0, 0, 0, 0}, {0, 0}};
+    qmesh_grid(&q, 100, 100, &go, &r);
+    qmesh_sample(&q, 2, wavy_q, NULL);
+    tc_mesh_desc d;
+    qmesh_desc(&q, 0, 0, &d);
+    tc_options o;
+    tc_options_default(&o);
+    o.method = TC_METHOD_HERMITE;
+    CHECK(same_on_threads("hermite, estimated", &d, &o) == TC_OK);
+    qmesh_desc(&q, 1, 0, &d);
+    CHECK(same_on_threads("hermite, gradients", &d, &o) == TC_OK);
+    o.method = TC_METHOD_CLOUGH_TOCHER;
+    CHECK(same_on_threads("clough-tocher on quads", &d, &o) == TC_OK);
+    qmesh_free(&q);
+}
+
+/* Data errors: gradients that are no numbers (validation), and so steep that the
+ * ordinates overflow (the build), each at an early and a late vertex. */
+TEST(threads_data_errors_as_serial) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 20);
+    tmesh g;
+    big_mesh(&g, &r);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    tc_options o;
+    tc_options_default(&o);
+    size_t nsz = (size_t)g.nv * (size_t)g.nc * 2;
+    double *grads = malloc(nsz * sizeof *grads);
+    memcpy(grads, g.grads, nsz * sizeof *grads);
+    int32_t late = g.nv - 200, early = 300;
+    grads[(size_t)late * 4 + 1] = NAN, grads[(size_t)early * 4 + 2] = INFINITY;
+    d.gradients = grads;
+    CHECK(same_on_threads("gradients not finite", &d, &o) == TC_EINVAL);
+    memcpy(grads, g.grads, nsz * sizeof *grads);
+    grads[(size_t)late * 4] = 1e306, grads[(size_t)early * 4 + 3] = -1e306;
+    o.range = TC_RANGE_FREE;
+    CHECK(same_on_threads("overflow", &d, &o) == TC_OK); /* the mesh is fine: the build fails */
+    free(grads);
+    tmesh_free(&g);
+}
+
+/* The big mesh with triangles appended (after the last part's start on any thread
+ * count) and the vertices they need; the caller's arrays are freed by the caller. */
+typedef struct {
+    double *xy, *val;
+    int32_t *tri;
+} grown;
+
+static void grow(const tmesh *g, tc_mesh_desc *d, const int32_t *tris, int ntris, const double *xy, int nxy, grown *gr) {
+    gr->xy = malloc(((size_t)g->nv + (size_t)nxy) * 2 * sizeof *gr->xy);
+    gr->val = malloc(((size_t)g->nv + (size_t)nxy) * (size_t)g->nc * sizeof *gr->val);
+    gr->tri = malloc(((size_t)g->nt + (size_t)ntris) * 3 * sizeof *gr->tri);
+    memcpy(gr->xy, g->xy, (size_t)g->nv * 2 * sizeof *gr->xy);
+    memcpy(gr->xy + 2 * g->nv, xy, (size_t)nxy * 2 * sizeof *gr->xy);
+    memcpy(gr->val, g->values, (size_t)g->nv * (size_t)g->nc * sizeof *gr->val);
+    for (size_t i = (size_t)g->nv * (size_t)g->nc; i < ((size_t)g->nv + (size_t)nxy) * (size_t)g->nc; i++)
+        gr->val[i] = 0.5;
+    memcpy(gr->tri, g->tri, (size_t)g->nt * 3 * sizeof *gr->tri);
+    memcpy(gr->tri + 3 * g->nt, tris, (size_t)ntris * 3 * sizeof *gr->tri);
+    tmesh_desc(g, d);
+    d->nverts = g->nv + nxy, d->xy = gr->xy, d->values = gr->val;
+    d->ntris = g->nt + ntris, d->tris = gr->tri;
+    d->gradients = NULL, d->gradients_mask = NULL;
+    d->ncorner_values = 0, d->ncorner_gradients = 0, d->nmidpoints = 0;
+}
+
+static void grown_free(grown *gr) { free(gr->xy), free(gr->val), free(gr->tri); }
+
+TEST(threads_errors_as_serial) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 18);
+    tmesh g;
+    tmesh_grid(&g, 130, 130, 0.2, 0, &r);
+    tmesh_sample(&g, 1, smooth_f, NULL, 0, 0, 0);
+    tc_options o;
+    tc_options_default(&o);
+    int32_t last = g.nt - 1, early = 5, inner = g.nt - 3 * 2 * 130 + 2 * 50; /* a cell of row 127 */
+    const int32_t *tl = g.tri + 3 * last, *te = g.tri + 3 * early, *ti = g.tri + 3 * inner;
+    int32_t v_in = tmesh_gv(130, 65, 65), nv = g.nv;
+    const double *p = g.xy + 2 * v_in;
+    double far_xy[4] = {p[0] + 1e-3, p[1] + 1e-4, p[0] + 1e-3, p[1] - 1e-4};
+    struct {
+        const char *what;
+        int32_t tris[9];
+        int ntris;
+        const double *xy;
+        int nxy;
+    } cases[] = {
+        /* the last triangle and an early one repeated: both reported, in order */
+        {"repeats", {tl[0], tl[1], tl[2], te[2], te[1], te[0]}, 2, NULL, 0},
+        /* an interior edge shared by a third triangle */
+        {"non-manifold", {ti[0], ti[1], nv}, 1, far_xy, 1},
+        /* a thin triangle at an interior vertex only: it overlaps its closed fan */
+        {"fan overlap", {v_in, nv, nv + 1}, 1, far_xy, 2},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        tc_mesh_desc d;
+        grown gr;
+        grow(&g, &d, cases[c].tris, cases[c].ntris, cases[c].xy, cases[c].nxy, &gr);
+        CHECK_MSG(same_on_threads(cases[c].what, &d, &o) == TC_EINVAL, "%s: not refused", cases[c].what);
+        grown_free(&gr);
+    }
+    /* polylines whose segments are no edges, late and early */
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    int32_t verts[] = {tmesh_gv(130, 1, 1), tmesh_gv(130, 2, 1), tmesh_gv(130, 9, 9), tmesh_gv(130, 9, 10),
+                       tmesh_gv(130, 120, 100), tmesh_gv(130, 3, 3)};
+    int32_t start[] = {0, 6};
+    d.c0 = (tc_polylines){1, start, verts};
+    CHECK(same_on_threads("polyline", &d, &o) == TC_EINVAL);
+    tmesh_free(&g);
+}
