@@ -4,21 +4,21 @@
 # and scipy on the same tile's pixel centres, one run. Not part of `make bench` (CI never has
 # such a machine); its output is committed under bench/perf/device/ and read by report.py.
 #
-#     bench/perf/device.sh DIR OUT     DIR holds bench_scaling and libcjson.so.1, built here
+#     bench/perf/device.sh DIR OUT     DIR holds bench_scaling and libcjson.so.1 built here, and
+#                                      meshes/ (bench/perf/meshes.py's grid16, grid64, grid512,
+#                                      del1e4 .json and grid64.npz), carried so nothing is made there
 set -eu
 D=$1
 OUT=$2
-M=/tmp/tocher-meshes
-mkdir -p "$M" "$OUT"
+M=$D/meshes
+mkdir -p "$OUT"
 export LD_LIBRARY_PATH="$D${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 (lscpu; nproc) > "$OUT/lscpu.txt" 2>&1 || true
-${PY:-python3} bench/perf/meshes.py "$M" > "$OUT/meshes.log" 2>&1
 T="1,2,4,8,12,16"
+for m in grid16 del1e4; do "$D/bench_scaling" "$M/$m.json" 1024 1; done > "$OUT/tile1024_others.json"
 "$D/bench_scaling" "$M/grid64.json" 1024 "$T" > "$OUT/tile1024.json"
 "$D/bench_scaling" "$M/grid64.json" 4096 "$T" > "$OUT/tile4096.json"
-if "$D/bench_scaling" --help 2>&1 | grep -q -- --build; then
-  "$D/bench_scaling" --build "$M/grid512.json" "$T" > "$OUT/build524k.json"
-fi
+"$D/bench_scaling" --build "$M/grid512.json" "$T" > "$OUT/build524k.json"
 ${PY:-python3} - "$M" > "$OUT/scipy_tile.json" <<'PY'
 import json, sys, time
 import numpy as np

@@ -1,7 +1,9 @@
 /* scaling.c — tile throughput per thread and thread scaling (issue 17 §3): renders one mesh's
- * square tile with 1..N threads, best of a few, and prints one JSON object on stdout.
+ * square tile with 1..N threads, best of a few, and prints one JSON object on stdout; with
+ * --build, the validation (tc_mesh_new) and build (tc_recon_new) of the mesh instead.
  *
  *     build/bench_scaling MESH.json [SIZE [THREADS,...]]     (default 1024, "1,2")
+ *     build/bench_scaling --build MESH.json [THREADS,...]
  *
  * The viewport is the unit square the bench meshes (bench/perf/meshes.py) cover. Each thread
  * count renders the same tile; the checksum of every run must agree (bit-identical output for
@@ -65,9 +67,64 @@ static double render_best(const tc_recon *r, const tc_locator *L, int32_t size, 
     return best;
 }
 
+/* Best of at least 3 runs and 1 s of validate + build with `threads`; *sum: the ordinates' sum. */
+static void build_best(const tc_request *req, int threads, double *val_s, double *build_s, double *sum) {
+    tc_mesh_desc d = req->desc;
+    tc_options o = req->opt;
+    d.threads = o.threads = threads;
+    *val_s = *build_s = INFINITY;
+    double spent = 0;
+    for (int i = 0; i < 3 || spent < 1; i++) {
+        tc_mesh *m = NULL;
+        tc_recon *r = NULL;
+        double t0 = now_s();
+        if (tc_mesh_new(&d, &m, NULL) != TC_OK) exit(1);
+        double t1 = now_s();
+        if (tc_recon_new(m, &o, &r, NULL) != TC_OK) exit(1);
+        double t2 = now_s();
+        *val_s = fmin(*val_s, t1 - t0), *build_s = fmin(*build_s, t2 - t1), spent += t2 - t0;
+        if (i == 0) {
+            double s = 0;
+            size_t n = (size_t)tc_mesh_triangle_count(m) * (size_t)m->nc * (size_t)tc_recon_coef_count(r);
+            for (size_t k = 0; k < n; k++) s += tc_recon_coefs(r)[k];
+            *sum = s;
+        }
+        tc_recon_free(r), tc_mesh_free(m);
+    }
+}
+
+static int main_build(const char *path, const char *list) {
+    size_t len;
+    char *json = slurp(path, &len);
+    tc_request *req = NULL;
+    if (!json || tc_request_parse(json, len, TC_REQ_MESH, &req, NULL) != TC_REQ_OK) {
+        fprintf(stderr, "%s: cannot parse\n", path);
+        return 1;
+    }
+    printf("{\"mesh\": \"%s\", \"triangles\": %d, \"runs\": [", path, (int)req->desc.ntris);
+    double first = NAN, sum0 = NAN;
+    int bad = 0;
+    char *copy = strdup(list), *save = NULL;
+    for (char *tok = strtok_r(copy, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        double v, b, sum = 0;
+        build_best(req, atoi(tok), &v, &b, &sum);
+        if (isnan(first)) first = v + b, sum0 = sum;
+        if (memcmp(&sum, &sum0, sizeof sum)) bad = 1;
+        printf("%s{\"threads\": %d, \"validate_s\": %.6f, \"build_s\": %.6f, \"total_s\": %.6f, "
+               "\"speedup\": %.2f, \"checksum\": %.17g}",
+               tok == copy ? "" : ", ", atoi(tok), v, b, v + b, first / (v + b), sum);
+        fflush(stdout);
+    }
+    printf("], \"identical\": %s}\n", bad ? "false" : "true");
+    free(copy), free(json);
+    tc_request_free(req);
+    return bad;
+}
+
 int main(int argc, char **argv) {
+    if (argc > 2 && !strcmp(argv[1], "--build")) return main_build(argv[2], argc > 3 ? argv[3] : "1,2");
     if (argc < 2) {
-        fprintf(stderr, "usage: %s MESH.json [SIZE [THREADS,...]]\n", argv[0]);
+        fprintf(stderr, "usage: %s MESH.json [SIZE [THREADS,...]] | --build MESH.json [THREADS,...]\n", argv[0]);
         return 2;
     }
     int32_t size = argc > 2 ? atoi(argv[2]) : 1024;
