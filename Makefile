@@ -123,7 +123,8 @@ $(BUILD)/bench_scaling: $(call obj,bench/perf/scaling.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(CJSON_LIBS) -lm -lpthread -ldl -o $@
 
 bench: deps
-	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt $(BUILD)/bench_scaling
+	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt $(BUILD)/bench_scaling \
+	  $(BUILD)/bench_validate
 	bench/perf/run.sh $(BUILD)
 
 # docs/report.md and docs/report/ (about 5 minutes on 2 cores).
@@ -167,7 +168,8 @@ numfmt-full: $(BUILD)/test_unit
 check: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG WARN_EXTRA=-Wconversion \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
-	  all build/san/test_unit build/san/report build/san/bench_perf build/san/bench_numfmt build/san/bench_scaling
+	  all build/san/test_unit build/san/report build/san/bench_perf build/san/bench_numfmt build/san/bench_scaling \
+	  build/san/bench_validate
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 
 # The libFuzzer target over the JSON API's request -> response functions (tests/fuzz/):

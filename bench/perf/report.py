@@ -66,6 +66,13 @@ class Run:
         self.scaling = {size: load(outdir, "scaling%d.json" % size) for size in (1024, 4096)
                         if os.path.exists(os.path.join(outdir, "scaling%d.json" % size))}
         try:
+            with open(os.path.join(outdir, "validate.txt")) as f:
+                self.validate = f.read()
+        except OSError:
+            self.validate = None
+        self.whole = load(outdir, "whole.json") if os.path.exists(os.path.join(outdir, "whole.json")) else None
+        self.numfmt = load(outdir, "numfmt.json") if os.path.exists(os.path.join(outdir, "numfmt.json")) else None
+        try:
             with open(os.path.join(outdir, "lscpu.txt")) as f:
                 self.cpu = next((l.split(":", 1)[1].strip() for l in f if l.startswith("Model name")), "?")
         except OSError:
@@ -210,6 +217,77 @@ def section_scaling(r):
             out.append("scipy on the same machine evaluates the 1024² tile's centres at %s: one tocher thread is %s." % (
                 si(sp, "/s"), ratio(one, sp)))
     return "\n".join(out)
+
+
+def section_whole(r):
+    """A whole /v1/ordinates request as a client sees it (bench/perf/whole.py) against scipy's
+    interpolator built from the same points with the gradients given."""
+    if not r.whole:
+        return "(whole.py did not run.)"
+    rows = []
+    for case, c in r.whole["cases"].items():
+        name, form = case.split(".")
+        t = next(iter(c["tocher"].values()))
+        ph = t["phases_ms"]
+        rows.append([name, "%d" % c["triangles"], "JSON" if form == "json" else "typed in and out",
+                     "%.1f MB / %.1f MB" % (c["body_bytes"] / 1e6, c["answer_bytes"] / 1e6),
+                     "%.0f ms" % c["scipy_points_ms"], "%.1f ms" % t["wall_ms"], ratio(c["scipy_points_ms"], t["wall_ms"]),
+                     " / ".join("%.1f" % ph.get(k, float("nan")) for k in ("parse", "validate", "build", "encode"))
+                     + " / %.1f" % t["transport_ms"]])
+    return table(["mesh", "triangles", "form", "body / answer", "scipy (points, gradients given)",
+                  "tocher, whole request", "tocher / scipy",
+                  "phases, ms: parse / validate / build / encode / transport"], rows)
+
+
+def issue17_targets(r):
+    """Issue 17's figures: (target, measured, met), from this run and the lent machine's files."""
+    rows = []
+    big = max(r.names, key=lambda m: r.t(m)["triangles"]) if r.names else None
+    if big:
+        t = r.t(big)
+        rate = t["json_bytes"] / t["parse_s"]
+        rows.append(["numbers in ≥ 200 MB/s (parse of %s's request, fast path)" % big, si(rate, "B/s"),
+                     "yes" if rate >= 200e6 else "no"])
+    if r.numfmt:
+        rate = r.numfmt["schubfach_random_bits_per_s"]
+        rows.append(["numbers out ≥ 25 M doubles/s (random doubles, one thread)", si(rate, "/s"),
+                     "yes" if rate >= 25e6 else "no"])
+    if r.whole:
+        for case, want, label in (("grid512.typed", 6, "typed in and out, 524k triangles"),
+                                  ("grid256.json", 3, "JSON numbers, 131k triangles")):
+            c = r.whole["cases"].get(case)
+            if c:
+                t = next(iter(c["tocher"].values()))
+                got = c["scipy_points_ms"] / t["wall_ms"]
+                rows.append(["/v1/ordinates, %s ≥ %d× scipy" % (label, want), "%.2f×" % got,
+                             "yes" if got >= want else "no"])
+    dev = device_figures()
+    if 1024 in r.scaling:
+        one = r.scaling[1024]["runs"][0]["mpixel_cpu_s"]
+        devone = dev["tile1024"]["runs"][0]["mpixel_s"] if "tile1024" in dev else None
+        rows.append(["≥ 150 Mpixel/s per thread, 1024² tile, 8192 triangles",
+                     "%.0f Mpixel/s here%s" % (one, "; %.0f on the lent Xeon" % devone if devone else ""),
+                     "yes" if one >= 150 else "no"])
+        scipy64 = r.p("grid64")["ct_eval_tile_pps"] if "grid64" in r.names else None
+        if scipy64:
+            got = one * 1e6 / scipy64
+            extra = ""
+            if devone and "scipy_tile" in dev:
+                extra = "; %.1f× on the lent Xeon" % (devone * 1e6 / dev["scipy_tile"]["per_s"])
+            rows.append(["that tile ≥ 25× scipy on the same centres", "%.1f× here%s" % (got, extra),
+                         "yes" if got >= 25 else "no"])
+    for name, want, label in (("tile4096", 12, "4096² tile"), ("build524k", 8, "validate + build, 524k triangles")):
+        if name in dev:
+            x = dev[name]["runs"][-1]
+            rows.append(["%s ≥ %d× at 16 threads (lent Xeon)" % (label, want),
+                         "%.2f× at %d threads" % (x["speedup"], x["threads"]),
+                         "yes" if x["threads"] >= 16 and x["speedup"] >= want else "no"])
+    for m, want in (("grid16", 10), ("grid256", 20)):
+        if m in r.names:
+            s = r.scattered(m)
+            rows.append(["scattered points ≥ %d× scipy, %s (1e6 random points, one thread)" % (want, m),
+                         ratio(s["tocher"], s["scipy"]), "yes" if s["tocher"] >= want * s["scipy"] else "no"])
+    return table(["issue 17 target", "measured", "met"], rows)
 
 
 def section_request(r):
@@ -504,6 +582,30 @@ libraries reconstruct on the identical mesh. Data f = sin(3x+1)·cos(2y) + x²/2
 ## Targets
 
 {targets(r)}
+
+Issue 17 (speed of the whole request):
+
+{issue17_targets(r)}
+
+## Ordinates: the whole request against scipy
+
+`bench/perf/whole.py`: tocherd on loopback, one keep-alive client, the body prepared beforehand, timed from
+sending to having read the whole answer (best of a few); scipy's interpolator built from the same points with
+the gradients given (`Delaunay` + peers.py's `ct_given_gradients`). Phases from the answer's Server-Timing;
+"transport" is the client's wall clock less the daemon's total.
+
+{section_whole(r)}
+
+### Validation against build
+
+`build/bench_validate` (bench/perf/validate.c): `tc_mesh_new` (validation and topology) and `tc_recon_new`
+(the build) timed apart on meshes made in memory: a grid with exact gradients, the same grid with a C0 and a
+C-1 polyline of thousands of segments snaking through it, and a wheel (one vertex of valence 65 536 within
+rings of quads); at n and 4n ("scaling": ~4 is linear, ~16 quadratic), on 1 and 2 threads (this machine).
+
+```
+{r.validate.strip() if r.validate else "(bench_validate did not run)"}
+```
 
 ## Ordinates: building the reconstruction
 
