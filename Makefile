@@ -71,6 +71,7 @@ $(BUILD)/obj/%.o: %.c
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 $(BUILD)/obj/src/core/ct_span.o: ALL_CFLAGS += -Wno-psabi
+$(BUILD)/obj/src/core/ct_points.o: ALL_CFLAGS += -Wno-psabi
 # The viewer page is assembled into viewer.o (.incbin), which -MMD does not see.
 $(BUILD)/obj/src/server/viewer.o: src/server/viewer.html
 
@@ -98,6 +99,10 @@ $(BUILD)/report: $(BENCH_OBJ) $(BUILD)/libtocher.a
 
 # The performance comparison with scipy and matplotlib: docs/performance.md (bench/perf/).
 $(BUILD)/bench_perf: $(call obj,bench/perf/perf.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
+# Scattered points (issue 17 §3): the batch path against the one it replaced (bench/perf/points.py).
+$(BUILD)/bench_points: $(call obj,bench/perf/points.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
 
 # Number printing (issue 17): tc_fmt_double against the cascade it replaced and printf.

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "core/locate.h"
+#include "core/locgrid.h"
 #include "core/mesh.h"
 
 /* ==== The ownership rule =====================================================
@@ -188,6 +189,7 @@ struct tc_locator {
     int depth; /* of the deepest leaf, root = 0; < STACK_MAX */
     struct node *nodes;
     struct slot *slots;
+    tc__locgrid *grid; /* NULL: queries walk the tree (see tc__locgrid_new) */
 };
 
 /* ---- building ---- */
@@ -372,6 +374,7 @@ int tc_locator_new(const tc_mesh *m, tc_locator **out) {
     if (!L) return TC_ENOMEM;
     if (m->nt > 0) {
         int rc = build_index(L, m);
+        if (rc == TC_OK) rc = tc__locgrid_new(L->slots, m->nt, &L->grid);
         if (rc != TC_OK) {
             tc_locator_free(L);
             return rc;
@@ -385,6 +388,7 @@ void tc_locator_free(tc_locator *L) {
     if (!L) return;
     free(L->nodes);
     free(L->slots);
+    tc__locgrid_free(L->grid);
     free(L);
 }
 
@@ -401,7 +405,7 @@ enum { SLOT_OUT = TC_SLOT_OUT, SLOT_TOUCH = TC_SLOT_TOUCH, SLOT_OWN = TC_SLOT_OW
  * contains P in the closed sense (P on an edge whose tie goes elsewhere), else
  * SLOT_OUT. An edge with the triangle on its left admits val >= 0, one with the
  * triangle on its right admits val < 0 strictly and val == 0 only closed. */
-int tc__slot_test(const struct slot *s, double x, double y) {
+static inline __attribute__((always_inline)) int slot_test(const struct slot *s, double x, double y) {
     int touch = 0;
     for (int k = 0; k < 3; k++) {
         int j = k == 2 ? 0 : k + 1;
@@ -416,19 +420,54 @@ int tc__slot_test(const struct slot *s, double x, double y) {
     return touch ? SLOT_TOUCH : SLOT_OWN;
 }
 
+int tc__slot_test(const struct slot *s, double x, double y) {
+    return slot_test(s, x, y);
+}
+
+/* slot_test's answer, first from the three determinants in floating point with
+ * no branch per edge: an edge whose determinant clears the error bound has an
+ * exact sign (the bound certifies it, as in orient_sign); one certain edge
+ * with the point outside makes it OUT, three certain edges inside make it OWN
+ * (certain means non-zero, so no tie is involved). Only when neither holds,
+ * a point on or within rounding of an edge, is the exact test run. */
+/* The filter of one edge a -> b of the slot (counter-clockwise, so its
+ * inside is on the left): bit 0 when the sign of cross(b - a, P - a) is
+ * certain and negative (P outside), bit 1 when it is not certain. The rule's
+ * canonical frame runs a -> b for a left edge and b -> a otherwise, whose
+ * determinant has the opposite exact sign; either way a certain negative sign
+ * here means P is outside (left: val < 0; right: val > 0), and a certain
+ * positive one means P is strictly inside that half-plane. The error bound is
+ * orient_sign's, valid for this expression of any three points. */
+static inline __attribute__((always_inline)) int edge_filter(double ax, double ay, double bx, double by, double x,
+                                                             double y) {
+    double l = (bx - ax) * (y - ay), r = (by - ay) * (x - ax), det = l - r;
+    int sure = fabs(det) > ORIENT_ERRBOUND * (fabs(l) + fabs(r));
+    return (sure & (det < 0)) | !sure << 1;
+}
+
+/* The three edge filters of a slot: 0 when all three are certain and inside
+ * (the point is strictly inside: SLOT_OWN), bit 0 when a certain edge puts it
+ * outside (SLOT_OUT), bit 1 when some edge is unsure (then only the exact
+ * test can tell; bit 0 still means OUT whatever the others say). */
+static inline __attribute__((always_inline)) int slot_filter(const struct slot *s, double x, double y) {
+    return edge_filter(s->x[0], s->y[0], s->x[1], s->y[1], x, y) |
+           edge_filter(s->x[1], s->y[1], s->x[2], s->y[2], x, y) |
+           edge_filter(s->x[2], s->y[2], s->x[0], s->y[0], x, y);
+}
+
 /* Tests the leaf's triangles: returns a strict owner, or -1 after lowering
  * *closed (-1 = none yet) to the lowest index of a closed-only container. */
 static int32_t leaf_test(const tc_locator *L, const struct node *leaf, double x, double y, int32_t *closed) {
     for (int32_t i = leaf->first; i < leaf->first + leaf->count; i++) {
         const struct slot *s = &L->slots[i];
-        int r = tc__slot_test(s, x, y);
+        int r = slot_test(s, x, y);
         if (r == SLOT_OWN) return s->t; /* unique in a valid mesh */
         if (r == SLOT_TOUCH && (*closed < 0 || s->t < *closed)) *closed = s->t;
     }
     return -1;
 }
 
-int32_t tc_locate(const tc_locator *L, double x, double y) {
+int32_t tc__locate_tree(const tc_locator *L, double x, double y) {
     if (!L || L->nnodes == 0) return -1;
     int32_t stack[STACK_MAX];
     int sp = 0;
@@ -449,6 +488,60 @@ int32_t tc_locate(const tc_locator *L, double x, double y) {
         if (sp == 0) return closed;
         n = stack[--sp];
     }
+}
+
+/* The tree's answer through the grid. The tree visits leaves in slot order
+ * (depth first, left first, each leaf a run of slots), and a triangle whose box
+ * misses P is OUT exactly, so tc__locate_tree returns the first strict owner in
+ * slot order among the triangles whose boxes hold P, else the lowest index of
+ * a closed container among them, else -1 (also outside the root box, which is
+ * the grid's box). P's cell lists every one of those triangles, in slot order:
+ * the same scan over it gives the same answer for any mesh, valid or not. */
+/* The exact scan of one block: first strict owner, else lowers *closed. */
+static int32_t block_exact(const tc_locator *L, const int32_t *items, double x, double y, int32_t *closed) {
+    for (int k = 0; k < TC_LOCGRID_BLOCK; k++) {
+        const struct slot *s = &L->slots[items[k]];
+        int r = slot_test(s, x, y);
+        if (r == SLOT_OWN) return s->t;
+        if (r == SLOT_TOUCH && (*closed < 0 || s->t < *closed)) *closed = s->t;
+    }
+    return -1;
+}
+
+static inline __attribute__((always_inline)) int32_t locate_grid(const tc_locator *L, const tc__locgrid *g, double x,
+                                                                 double y) {
+    if (!(x >= g->lo[0] && x <= g->hi[0] && y >= g->lo[1] && y <= g->hi[1])) return -1;
+    size_t c = (size_t)tc__locgrid_cell(g, 1, y) * (size_t)g->n[0] + (size_t)tc__locgrid_cell(g, 0, x);
+    int32_t b = g->start[c], e = g->start[c + 1], closed = -1;
+    if (e - b > TC_LOCGRID_MAX) return tc__locate_tree(L, x, y);
+    /* A block's four filters run without a branch between them; only a point
+     * within rounding of an edge (a filter unsure) takes the exact scan. */
+    for (int32_t i = b; i < e; i += TC_LOCGRID_BLOCK) {
+        const int32_t *it = g->items + i;
+        int f0 = slot_filter(&L->slots[it[0]], x, y), f1 = slot_filter(&L->slots[it[1]], x, y);
+        int f2 = slot_filter(&L->slots[it[2]], x, y), f3 = slot_filter(&L->slots[it[3]], x, y);
+        unsigned own = (unsigned)(f0 == 0) | (unsigned)(f1 == 0) << 1 | (unsigned)(f2 == 0) << 2 | (unsigned)(f3 == 0) << 3;
+        if ((f0 == 2) | (f1 == 2) | (f2 == 2) | (f3 == 2)) { /* unsure and not OUT: the block exactly, in order */
+            int32_t t = block_exact(L, it, x, y, &closed);
+            if (t >= 0) return t;
+            continue;
+        }
+        if (own) return L->slots[it[__builtin_ctz(own)]].t;
+    }
+    return closed;
+}
+
+int32_t tc_locate(const tc_locator *L, double x, double y) {
+    if (L && L->grid) return locate_grid(L, L->grid, x, y);
+    return tc__locate_tree(L, x, y);
+}
+
+void tc__locate_many(const tc_locator *L, size_t n, const double *xy, int32_t *tri) {
+    if (!L || !L->grid) {
+        for (size_t i = 0; i < n; i++) tri[i] = tc__locate_tree(L, xy[2 * i], xy[2 * i + 1]);
+        return;
+    }
+    for (size_t i = 0; i < n; i++) tri[i] = locate_grid(L, L->grid, xy[2 * i], xy[2 * i + 1]);
 }
 
 /* Boxes meet when they overlap in both axes (closed). */

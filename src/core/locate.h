@@ -3,6 +3,8 @@
 #ifndef TC_CORE_LOCATE_H
 #define TC_CORE_LOCATE_H
 
+#include <stddef.h>
+
 #include "tocher.h"
 
 /* A triangle as the locator stores it: corners counter-clockwise, and per edge
@@ -18,6 +20,14 @@ enum { TC_SLOT_OUT = 0, TC_SLOT_TOUCH = 1, TC_SLOT_OWN = 2 };
 /* TC_SLOT_OWN if the triangle owns (x, y) by the strict rule, TC_SLOT_TOUCH if it
  * only contains it in the closed sense, else TC_SLOT_OUT. Exact. */
 int tc__slot_test(const struct tc__slot *s, double x, double y);
+
+/* The owner by a walk down the bounding-volume tree alone: the first strict
+ * owner in slot order, else the lowest-index closed container, else -1. The
+ * reference tc_locate's faster paths must agree with, point for point. */
+int32_t tc__locate_tree(const tc_locator *L, double x, double y);
+
+/* tri[i] = tc_locate(L, xy[2i], xy[2i + 1]) for i < n, without a call per point. */
+void tc__locate_many(const tc_locator *L, size_t n, const double *xy, int32_t *tri);
 
 /* Calls fn for every triangle whose box meets the closed box [lo, hi]. */
 void tc__locator_query_box(const tc_locator *L, const double lo[2], const double hi[2],

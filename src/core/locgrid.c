@@ -1,0 +1,184 @@
+/* locgrid.c — builds the locator's grid of cells (locgrid.h): each cell lists the slots
+ * whose boxes meet it, so a point's candidates are one cell's short list. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "core/alloc.h"
+#include "core/locgrid.h"
+#include "tocher.h"
+
+/* Cells per triangle tried first, then fewer when the lists grow too long in
+ * all (long boxes cover many cells). About 2 cells per triangle keeps a grid
+ * mesh's lists at ~4 slots; more cells shorten them little and cost memory. */
+#define CELLS_PER_TRIANGLE 4.0
+#define TRIES 4
+/* Items allowed per triangle before a coarser grid is tried. */
+#define ITEMS_PER_TRIANGLE 32
+
+static void slot_box(const struct tc__slot *s, double b[4]) {
+    b[0] = fmin(fmin(s->x[0], s->x[1]), s->x[2]);
+    b[1] = fmin(fmin(s->y[0], s->y[1]), s->y[2]);
+    b[2] = fmax(fmax(s->x[0], s->x[1]), s->x[2]);
+    b[3] = fmax(fmax(s->y[0], s->y[1]), s->y[2]);
+}
+
+/* Cells along one axis of extent w, and their scale: one cell (scale 0, every
+ * point in it) when the extent is 0 or the scale would not be finite. */
+static void axis_cells(tc__locgrid *g, int axis, double w, double want) {
+    double n = floor(want + 0.5);
+    if (!(n >= 1)) n = 1;
+    if (n > 32768) n = 32768;
+    double s = n / w;
+    if (!(w > 0) || !isfinite(w) || !isfinite(s)) n = 1, s = 0;
+    g->n[axis] = (int32_t)n;
+    g->scale[axis] = s;
+}
+
+/* Sizes the grid for `cells` cells in all, shaped like the box. */
+static void size_grid(tc__locgrid *g, double cells) {
+    double w = g->hi[0] - g->lo[0], h = g->hi[1] - g->lo[1];
+    double nx = w > 0 && h > 0 ? sqrt(cells * w / h) : w > 0 ? cells : 1;
+    axis_cells(g, 0, w, nx);
+    axis_cells(g, 1, h, cells / g->n[0]);
+}
+
+/* Number of (slot, cell) pairs, or -1 past `limit`. */
+static int64_t count_items(const tc__locgrid *g, const double *box, int32_t nt, int64_t limit) {
+    int64_t total = 0;
+    for (int32_t i = 0; i < nt; i++) {
+        const double *b = box + 4 * (size_t)i;
+        int64_t cx = tc__locgrid_cell(g, 0, b[2]) - tc__locgrid_cell(g, 0, b[0]) + 1;
+        int64_t cy = tc__locgrid_cell(g, 1, b[3]) - tc__locgrid_cell(g, 1, b[1]) + 1;
+        total += cx * cy;
+        if (total > limit) return -1;
+    }
+    return total;
+}
+
+/* The closed x (axis 0) or y range that holds every point tc__locgrid_cell
+ * puts in cell c, widened by a margin far above the rounding of the cell map
+ * (relative 1e-15 of a cell, or of the coordinates' magnitude). */
+static void cell_range(const tc__locgrid *g, int axis, int32_t c, double *a, double *b) {
+    double lo = g->lo[axis], hi = g->hi[axis];
+    int32_t n = g->n[axis];
+    double cw = (hi - lo) / n;
+    *a = c == 0 ? lo : lo + c * cw;
+    *b = c == n - 1 ? hi : lo + (c + 1) * cw;
+    double m = 1e-3 * (*b - *a) + 1e-12 * fmax(fabs(lo), fabs(hi));
+    *a -= m, *b += m;
+}
+
+/* True only if no point of the rectangle lies in the slot's closed triangle:
+ * the rectangle is outside one edge's half-plane by more than any rounding of
+ * the edge function (relative 1e-9 of its terms; tiny scales are never
+ * culled). Then tc__slot_test, exact, says SLOT_OUT at every point there, so
+ * leaving the slot out of the cell changes no answer. The slot's corners are
+ * in the order its tests use (counter-clockwise: inside is left of k -> k+1). */
+static int misses(const struct tc__slot *s, double x0, double x1, double y0, double y1) {
+    for (int k = 0; k < 3; k++) {
+        int j = k == 2 ? 0 : k + 1;
+        double ex = s->x[j] - s->x[k], ey = s->y[j] - s->y[k];
+        double qx = ey < 0 ? x1 : x0, qy = ex > 0 ? y1 : y0; /* the corner most inside */
+        double dx = qx - s->x[k], dy = qy - s->y[k];
+        double f = ex * dy - ey * dx, tol = 1e-9 * (fabs(ex) + fabs(ey)) * (fabs(dx) + fabs(dy));
+        if (tol > 1e-250 && f < -tol) return 1;
+    }
+    return 0;
+}
+
+/* Calls place(c) for every cell c the slot's box covers and its triangle may meet. */
+#define FOR_CELLS(g, s, b, BODY)                                                                          \
+    do {                                                                                                 \
+        int32_t x0_ = tc__locgrid_cell(g, 0, (b)[0]), x1_ = tc__locgrid_cell(g, 0, (b)[2]);               \
+        int32_t y0_ = tc__locgrid_cell(g, 1, (b)[1]), y1_ = tc__locgrid_cell(g, 1, (b)[3]);               \
+        for (int32_t cy_ = y0_; cy_ <= y1_; cy_++) {                                                     \
+            double ya_, yb_;                                                                             \
+            cell_range(g, 1, cy_, &ya_, &yb_);                                                           \
+            for (int32_t cx_ = x0_; cx_ <= x1_; cx_++) {                                                 \
+                double xa_, xb_;                                                                         \
+                cell_range(g, 0, cx_, &xa_, &xb_);                                                       \
+                if ((x0_ < x1_ || y0_ < y1_) && misses(s, xa_, xb_, ya_, yb_)) continue;                \
+                size_t c = (size_t)cy_ * (size_t)(g)->n[0] + (size_t)cx_;                                \
+                BODY;                                                                                    \
+            }                                                                                            \
+        }                                                                                                \
+    } while (0)
+
+/* Fills start and items: slots in increasing order, so every list is sorted,
+ * each list padded to a multiple of TC_LOCGRID_BLOCK by repeating its last
+ * slot (a repeat changes neither the first strict owner nor the lowest closed
+ * one). */
+static int fill(tc__locgrid *g, const struct tc__slot *slots, const double *box, int32_t nt) {
+    size_t ncell = (size_t)g->n[0] * (size_t)g->n[1];
+    g->start = tc__calloc(ncell + 1, sizeof *g->start);
+    int32_t *next = tc__malloc(ncell, sizeof *next);
+    if (!g->start || !next) {
+        free(next);
+        return TC_ENOMEM;
+    }
+    for (int32_t i = 0; i < nt; i++) FOR_CELLS(g, &slots[i], box + 4 * (size_t)i, g->start[c + 1]++);
+    int64_t total = 0;
+    for (size_t c = 0; c < ncell; c++) { /* start[c]: cell c's first item */
+        int64_t k = g->start[c + 1];
+        g->start[c] = (int32_t)total, next[c] = (int32_t)total;
+        total += (k + TC_LOCGRID_BLOCK - 1) / TC_LOCGRID_BLOCK * TC_LOCGRID_BLOCK;
+        if (total > INT32_MAX) {
+            free(next);
+            return TC_ELIMIT;
+        }
+    }
+    g->start[ncell] = (int32_t)total;
+    g->items = tc__malloc((size_t)total, sizeof *g->items);
+    if (!g->items) {
+        free(next);
+        return TC_ENOMEM;
+    }
+    for (int32_t i = 0; i < nt; i++) FOR_CELLS(g, &slots[i], box + 4 * (size_t)i, g->items[next[c]++] = i);
+    for (size_t c = 0; c < ncell; c++)
+        for (int32_t k = next[c]; k > g->start[c] && k < g->start[c + 1]; k++) g->items[k] = g->items[k - 1];
+    free(next);
+    return TC_OK;
+}
+
+int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out) {
+    *out = NULL;
+    double *box = tc__malloc((size_t)nt, 4 * sizeof *box);
+    tc__locgrid *g = calloc(1, sizeof *g);
+    int rc = box && g ? TC_OK : TC_ENOMEM;
+    if (rc == TC_OK) {
+        g->lo[0] = g->lo[1] = INFINITY;
+        g->hi[0] = g->hi[1] = -INFINITY;
+    }
+    for (int32_t i = 0; rc == TC_OK && i < nt; i++) {
+        double *b = box + 4 * (size_t)i;
+        slot_box(&slots[i], b);
+        if (!isfinite(b[0]) || !isfinite(b[1]) || !isfinite(b[2]) || !isfinite(b[3])) {
+            free(box), tc__locgrid_free(g); /* fmin/fmax skip NaN: the tree keeps its own rule */
+            return TC_OK;
+        }
+        g->lo[0] = fmin(g->lo[0], b[0]), g->lo[1] = fmin(g->lo[1], b[1]);
+        g->hi[0] = fmax(g->hi[0], b[2]), g->hi[1] = fmax(g->hi[1], b[3]);
+    }
+    int64_t total = -1, limit = (int64_t)ITEMS_PER_TRIANGLE * nt;
+    double cells = CELLS_PER_TRIANGLE * nt;
+    for (int k = 0; rc == TC_OK && k < TRIES && total < 0; k++, cells /= 4) {
+        size_grid(g, cells);
+        int64_t lim = limit + 4 * (int64_t)g->n[0] * g->n[1];
+        total = count_items(g, box, nt, lim < INT32_MAX ? lim : INT32_MAX);
+    }
+    if (rc == TC_OK && total >= 0) rc = fill(g, slots, box, nt);
+    free(box);
+    if (rc != TC_OK || total < 0) {
+        tc__locgrid_free(g);
+        return rc;
+    }
+    *out = g;
+    return TC_OK;
+}
+
+void tc__locgrid_free(tc__locgrid *g) {
+    if (!g) return;
+    free(g->start);
+    free(g->items);
+    free(g);
+}
