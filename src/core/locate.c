@@ -512,21 +512,23 @@ static inline __attribute__((always_inline)) int32_t locate_grid(const tc_locato
                                                                  double y) {
     if (!(x >= g->lo[0] && x <= g->hi[0] && y >= g->lo[1] && y <= g->hi[1])) return -1;
     size_t c = (size_t)tc__locgrid_cell(g, 1, y) * (size_t)g->n[0] + (size_t)tc__locgrid_cell(g, 0, x);
-    int32_t b = g->start[c], e = g->start[c + 1], closed = -1;
-    if (e - b > TC_LOCGRID_MAX) return tc__locate_tree(L, x, y);
-    /* A block's four filters run without a branch between them; only a point
+    int32_t w = g->cell[c], closed = -1;
+    if (w < 0) return w == TC_LOCGRID_EMPTY ? -1 : -1 - w; /* none, or a cell inside one triangle */
+    const int32_t *list = g->items + w + 1;
+    int32_t k = list[-1];
+    if (k > TC_LOCGRID_MAX) return tc__locate_tree(L, x, y);
+    /* A block's filters run without a branch between them; only a point
      * within rounding of an edge (a filter unsure) takes the exact scan. */
-    for (int32_t i = b; i < e; i += TC_LOCGRID_BLOCK) {
-        const int32_t *it = g->items + i;
+    for (int32_t i = 0; i < k; i += TC_LOCGRID_BLOCK) {
+        const int32_t *it = list + i;
         int f0 = slot_filter(&L->slots[it[0]], x, y), f1 = slot_filter(&L->slots[it[1]], x, y);
-        int f2 = slot_filter(&L->slots[it[2]], x, y), f3 = slot_filter(&L->slots[it[3]], x, y);
-        unsigned own = (unsigned)(f0 == 0) | (unsigned)(f1 == 0) << 1 | (unsigned)(f2 == 0) << 2 | (unsigned)(f3 == 0) << 3;
-        if ((f0 == 2) | (f1 == 2) | (f2 == 2) | (f3 == 2)) { /* unsure and not OUT: the block exactly, in order */
+        if ((f0 == 2) | (f1 == 2)) { /* unsure and not OUT: the block exactly, in order */
             int32_t t = block_exact(L, it, x, y, &closed);
             if (t >= 0) return t;
             continue;
         }
-        if (own) return L->slots[it[__builtin_ctz(own)]].t;
+        if (f0 == 0) return L->slots[it[0]].t;
+        if (f1 == 0) return L->slots[it[1]].t;
     }
     return closed;
 }

@@ -9,29 +9,38 @@
 
 /* Invariants: lo/hi is the closed union of every slot's box; a slot whose box
  * [bx0, bx1] x [by0, by1] is listed in every cell (cx, cy) with
- * cell_x(bx0) <= cx <= cell_x(bx1) and likewise in y, where cell_x is the
- * monotone map below. So a point in a slot's box always finds the slot in its
- * cell. Each cell's list is in increasing slot order (what the tree's rule
- * "first strict owner in slot order" needs), padded to a multiple of
- * TC_LOCGRID_BLOCK entries by repeating its last slot (empty lists stay empty). A cell listing more than
- * TC_LOCGRID_MAX slots has start[c + 1] - start[c] > TC_LOCGRID_MAX: the query
- * then walks the tree instead (fans, long slivers), so no point costs O(T). */
+ * cell(0, bx0) <= cx <= cell(0, bx1), likewise in y, where its triangle may
+ * meet the cell (a slot is left out only where its exact test says SLOT_OUT at
+ * every point of the cell; locgrid.c). The cell map is monotone, so a point in
+ * a slot's box always finds it in its cell, unless the slot is OUT there.
+ * Cell c's word cell[c] is
+ *  - TC_LOCGRID_EMPTY: no triangle meets the cell;
+ *  - w < 0 otherwise: the cell lies strictly inside triangle -1 - w, which is
+ *    the only one meeting it, so that triangle owns every point of the cell
+ *    (one load answers most points of a small mesh);
+ *  - w >= 0: items[w] = k, then k slot indices in increasing slot order (what
+ *    the tree's rule "first strict owner in slot order" needs), k a multiple
+ *    of TC_LOCGRID_BLOCK, the last real one repeated to fill the block.
+ * A list longer than TC_LOCGRID_MAX makes the query walk the tree instead
+ * (fans, long slivers), so no point costs O(T). */
 typedef struct tc__locgrid {
     double lo[2], hi[2];
+    double org[2];   /* where cell 0 begins (a fraction of a cell before lo) */
     double scale[2]; /* cells per unit, >= 0 and finite */
     int32_t n[2];    /* cells per axis, >= 1 */
-    int32_t *start;  /* [n0 * n1 + 1] offsets into items */
-    int32_t *items;  /* slot indices */
+    int32_t *cell;   /* [n0 * n1] */
+    int32_t *items;
 } tc__locgrid;
 
+#define TC_LOCGRID_EMPTY INT32_MIN
 #define TC_LOCGRID_MAX 48
-#define TC_LOCGRID_BLOCK 4
+#define TC_LOCGRID_BLOCK 2
 
 /* The cell column of x (row: axis 1). Monotone non-decreasing in x, whatever
  * the rounding: a difference, a product by a constant >= 0, a truncation and a
  * clamp; NaN maps to cell 0. */
 static inline int32_t tc__locgrid_cell(const tc__locgrid *g, int axis, double x) {
-    double u = (x - g->lo[axis]) * g->scale[axis];
+    double u = (x - g->org[axis]) * g->scale[axis];
     if (!(u >= 0)) return 0;
     return u < (double)g->n[axis] ? (int32_t)u : g->n[axis] - 1;
 }
