@@ -538,6 +538,14 @@ int32_t tc_locate(const tc_locator *L, double x, double y) {
     return tc__locate_tree(L, x, y);
 }
 
+int tc__locator_grid_cells(const tc_locator *L, int64_t *cells, int64_t *held) {
+    *cells = *held = 0;
+    if (!L || !L->grid) return 0;
+    *cells = (int64_t)L->grid->n[0] * L->grid->n[1];
+    for (int64_t c = 0; c < *cells; c++) *held += L->grid->cell[c] < 0 && L->grid->cell[c] != TC_LOCGRID_EMPTY;
+    return 1;
+}
+
 void tc__locate_many(const tc_locator *L, size_t n, const double *xy, int32_t *tri) {
     if (!L || !L->grid) {
         for (size_t i = 0; i < n; i++) tri[i] = tc__locate_tree(L, xy[2 * i], xy[2 * i + 1]);

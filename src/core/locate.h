@@ -29,6 +29,10 @@ int32_t tc__locate_tree(const tc_locator *L, double x, double y);
 /* tri[i] = tc_locate(L, xy[2i], xy[2i + 1]) for i < n, without a call per point. */
 void tc__locate_many(const tc_locator *L, size_t n, const double *xy, int32_t *tri);
 
+/* Tests: 1 if L has a grid of cells (locgrid.h), with *cells cells of which
+ * *held lie inside one triangle; 0 (and zeros) if its queries walk the tree. */
+int tc__locator_grid_cells(const tc_locator *L, int64_t *cells, int64_t *held);
+
 /* Calls fn for every triangle whose box meets the closed box [lo, hi]. */
 void tc__locator_query_box(const tc_locator *L, const double lo[2], const double hi[2],
                            void (*fn)(void *ctx, const struct tc__slot *s), void *ctx);

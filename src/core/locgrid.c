@@ -221,11 +221,14 @@ int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out)
     }
     for (int32_t i = 0; rc == TC_OK && i < nt; i++) {
         double *b = box + 4 * (size_t)i;
-        slot_box(&slots[i], b);
-        if (!isfinite(b[0]) || !isfinite(b[1]) || !isfinite(b[2]) || !isfinite(b[3])) {
-            free(box), tc__locgrid_free(g); /* fmin/fmax skip NaN: the tree keeps its own rule */
+        const struct tc__slot *sl = &slots[i];
+        int finite = 1;
+        for (int k = 0; k < 3; k++) finite &= isfinite(sl->x[k]) && isfinite(sl->y[k]);
+        if (!finite) { /* fmin/fmax would skip a NaN: the tree keeps its own rule for such meshes */
+            free(box), tc__locgrid_free(g);
             return TC_OK;
         }
+        slot_box(sl, b);
         g->lo[0] = fmin(g->lo[0], b[0]), g->lo[1] = fmin(g->lo[1], b[1]);
         g->hi[0] = fmax(g->hi[0], b[2]), g->hi[1] = fmax(g->hi[1], b[3]);
     }
