@@ -140,13 +140,12 @@ void tc__eval_points_ref(const tc_recon *r, const tc_locator *L, size_t n, const
 
 #define CHUNK 256
 
-/* Frames made so far in one thread's share of a call: a table over every
- * triangle when the share has at least as many points as the mesh has
- * triangles (each frame made on first use), else one frame per run of
- * consecutive points in the same triangle, in a buffer per chunk. */
+/* The frames of one thread's share of a call: a table over every triangle,
+ * made up front, when the share has at least as many points as the mesh has
+ * triangles; else one frame per run of consecutive points in the same
+ * triangle, in a buffer per chunk. */
 typedef struct {
     tc__eval_frame *table; /* [nt] or NULL */
-    uint8_t *made;         /* [nt] */
     tc__eval_frame *buf;   /* [CHUNK] when there is no table */
 } frames;
 
@@ -154,17 +153,17 @@ static int frames_init(frames *fr, const struct tc_mesh *m, size_t npoints) {
     memset(fr, 0, sizeof *fr);
     if (npoints >= (size_t)m->nt) {
         fr->table = tc__malloc((size_t)m->nt, sizeof *fr->table);
-        fr->made = tc__calloc((size_t)m->nt, 1);
-        if (fr->table && fr->made) return 0;
-        free(fr->table), free(fr->made);
-        fr->table = NULL, fr->made = NULL;
+        if (fr->table) {
+            for (int32_t t = 0; t < m->nt; t++) tc__frame(m, t, &fr->table[t]);
+            return 0;
+        }
     }
     fr->buf = tc__malloc(CHUNK, sizeof *fr->buf);
     return fr->buf ? 0 : -1;
 }
 
 static void frames_free(frames *fr) {
-    free(fr->table), free(fr->made), free(fr->buf);
+    free(fr->table), free(fr->buf);
 }
 
 /* fp[j] = the frame of own[j] for each owned point j of a chunk. */
@@ -176,7 +175,6 @@ static void chunk_frames(frames *fr, const struct tc_mesh *m, size_t k, const in
         int32_t t = own[j];
         if (t < 0) continue;
         if (fr->table) {
-            if (!fr->made[t]) tc__frame(m, t, &fr->table[t]), fr->made[t] = 1;
             fp[j] = &fr->table[t];
             continue;
         }
@@ -219,7 +217,15 @@ static void eval_ct_chunk(const share *sh, size_t k, const size_t *idx, const do
     int nc = r->m->nc;
     tc__ct_lane lane[4];
     int n = 0;
+    enum { AHEAD = 8 }; /* points between asking for a triangle's data and using it */
+    size_t per = (size_t)nc * TC_CT_ORDINATES * sizeof(double);
     for (size_t j = 0; j < k; j++) {
+        if (j + AHEAD < k && own[j + AHEAD] >= 0) {
+            const char *cf = (const char *)(r->coef + (size_t)own[j + AHEAD] * (size_t)nc * TC_CT_ORDINATES);
+            const char *fa = (const char *)fp[j + AHEAD];
+            for (size_t b = 0; b < per; b += 64) __builtin_prefetch(cf + b);
+            for (size_t b = 0; b < sizeof **fp; b += 64) __builtin_prefetch(fa + b);
+        }
         if (own[j] < 0) continue;
         size_t i = idx[j];
         lane[n++] = (tc__ct_lane){fp[j], r->coef + (size_t)own[j] * (size_t)nc * TC_CT_ORDINATES, pxy[2 * j],
@@ -243,15 +249,16 @@ static void eval_share(const share *sh) {
     const tc__eval_frame *fp[CHUNK];
     for (size_t c = sh->lo; c < sh->hi; c += CHUNK) {
         size_t k = sh->hi - c < CHUNK ? sh->hi - c : CHUNK;
-        for (size_t j = 0; j < k; j++) {
-            if (sh->order) {
+        const double *cxy = sh->xy + 2 * c; /* the chunk's points, and their indices */
+        for (size_t j = 0; j < k; j++) idx[j] = c + j;
+        if (sh->order) {
+            for (size_t j = 0; j < k; j++) {
                 const visit *p = &sh->order[c + j];
                 idx[j] = (size_t)(p->key & 0xffffffffu), pxy[2 * j] = p->x, pxy[2 * j + 1] = p->y;
-            } else {
-                idx[j] = c + j, pxy[2 * j] = sh->xy[2 * (c + j)], pxy[2 * j + 1] = sh->xy[2 * (c + j) + 1];
             }
+            cxy = pxy;
         }
-        tc__locate_many(sh->L, k, pxy, own);
+        tc__locate_many(sh->L, k, cxy, own);
         for (size_t j = 0; j < k; j++) {
             size_t i = idx[j];
             if (sh->tri) sh->tri[i] = own[j];
@@ -261,17 +268,17 @@ static void eval_share(const share *sh) {
         }
         if (no_frames) { /* out of memory for even a chunk's frames: each point its own */
             for (size_t j = 0; j < k; j++)
-                if (own[j] >= 0) tc_eval_triangle(r, own[j], pxy[2 * j], pxy[2 * j + 1], sh->values + idx[j] * (size_t)nc,
+                if (own[j] >= 0) tc_eval_triangle(r, own[j], cxy[2 * j], cxy[2 * j + 1], sh->values + idx[j] * (size_t)nc,
                                                   sh->grads ? sh->grads + 2 * idx[j] * (size_t)nc : NULL);
             continue;
         }
         chunk_frames(&fr, r->m, k, own, fp);
         if (ct) {
-            eval_ct_chunk(sh, k, idx, pxy, own, fp);
+            eval_ct_chunk(sh, k, idx, cxy, own, fp);
             continue;
         }
         for (size_t j = 0; j < k; j++)
-            if (own[j] >= 0) eval_owned(r, fp[j], own[j], idx[j], pxy[2 * j], pxy[2 * j + 1], sh->values, sh->grads);
+            if (own[j] >= 0) eval_owned(r, fp[j], own[j], idx[j], cxy[2 * j], cxy[2 * j + 1], sh->values, sh->grads);
     }
     frames_free(&fr);
 }

@@ -1,6 +1,7 @@
 /* locate.c — point location: which triangle of a mesh owns a point (x, y).
  * A static bounding-volume hierarchy over triangle boxes plus an exact top-left ownership rule. */
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -508,14 +509,19 @@ static int32_t block_exact(const tc_locator *L, const int32_t *items, double x, 
     return -1;
 }
 
-static inline __attribute__((always_inline)) int32_t locate_grid(const tc_locator *L, const tc__locgrid *g, double x,
-                                                                 double y) {
-    if (!(x >= g->lo[0] && x <= g->hi[0] && y >= g->lo[1] && y <= g->hi[1])) return -1;
-    size_t c = (size_t)tc__locgrid_cell(g, 1, y) * (size_t)g->n[0] + (size_t)tc__locgrid_cell(g, 0, x);
-    int32_t w = g->cell[c], closed = -1;
+/* P's cell, or SIZE_MAX outside the grid's box (NaN included): then the tree
+ * would find no triangle either (the box is the root's). */
+static inline __attribute__((always_inline)) size_t grid_cell(const tc__locgrid *g, double x, double y) {
+    if (!(x >= g->lo[0] && x <= g->hi[0] && y >= g->lo[1] && y <= g->hi[1])) return SIZE_MAX;
+    return (size_t)tc__locgrid_cell(g, 1, y) * (size_t)g->n[0] + (size_t)tc__locgrid_cell(g, 0, x);
+}
+
+/* The owner of P in cell c, whose word is w. */
+static inline __attribute__((always_inline)) int32_t grid_owner(const tc_locator *L, const tc__locgrid *g, int32_t w,
+                                                                double x, double y) {
     if (w < 0) return w == TC_LOCGRID_EMPTY ? -1 : -1 - w; /* none, or a cell inside one triangle */
     const int32_t *list = g->items + w + 1;
-    int32_t k = list[-1];
+    int32_t k = list[-1], closed = -1;
     if (k > TC_LOCGRID_MAX) return tc__locate_tree(L, x, y);
     /* A block's filters run without a branch between them; only a point
      * within rounding of an edge (a filter unsure) takes the exact scan. */
@@ -531,6 +537,12 @@ static inline __attribute__((always_inline)) int32_t locate_grid(const tc_locato
         if (f1 == 0) return L->slots[it[1]].t;
     }
     return closed;
+}
+
+static inline __attribute__((always_inline)) int32_t locate_grid(const tc_locator *L, const tc__locgrid *g, double x,
+                                                                 double y) {
+    size_t c = grid_cell(g, x, y);
+    return c == SIZE_MAX ? -1 : grid_owner(L, g, g->cell[c], x, y);
 }
 
 int32_t tc_locate(const tc_locator *L, double x, double y) {
@@ -551,7 +563,24 @@ void tc__locate_many(const tc_locator *L, size_t n, const double *xy, int32_t *t
         for (size_t i = 0; i < n; i++) tri[i] = tc__locate_tree(L, xy[2 * i], xy[2 * i + 1]);
         return;
     }
-    for (size_t i = 0; i < n; i++) tri[i] = locate_grid(L, L->grid, xy[2 * i], xy[2 * i + 1]);
+    /* In groups: every cell word of a group is asked for before the first is
+     * used, then every list, so the cache misses of random points overlap. */
+    const tc__locgrid *g = L->grid;
+    enum { GROUP = 16 };
+    for (size_t i0 = 0; i0 < n; i0 += GROUP) {
+        size_t k = n - i0 < GROUP ? n - i0 : GROUP, cell[GROUP];
+        int32_t word[GROUP];
+        const double *p = xy + 2 * i0;
+        for (size_t j = 0; j < k; j++) {
+            cell[j] = grid_cell(g, p[2 * j], p[2 * j + 1]);
+            if (cell[j] != SIZE_MAX) __builtin_prefetch(&g->cell[cell[j]]);
+        }
+        for (size_t j = 0; j < k; j++) {
+            word[j] = cell[j] == SIZE_MAX ? TC_LOCGRID_EMPTY : g->cell[cell[j]];
+            if (word[j] >= 0) __builtin_prefetch(&g->items[word[j]]);
+        }
+        for (size_t j = 0; j < k; j++) tri[i0 + j] = grid_owner(L, g, word[j], p[2 * j], p[2 * j + 1]);
+    }
 }
 
 /* Boxes meet when they overlap in both axes (closed). */
