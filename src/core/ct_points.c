@@ -60,7 +60,6 @@ INLINE void points_body(const tc__ct_lane *L, int nc, const uint8_t *floor0) {
     v4i mAB = A >= B, mAC = A >= C, mBC = B >= C;
     v4i r0 = mAB & mAC, r1 = ~mAB & mBC;
     int grads = L[0].g != NULL;
-    v4d dl10 = GATHER(L, dl1[0]), dl11 = GATHER(L, dl1[1]), dl20 = GATHER(L, dl2[0]), dl21 = GATHER(L, dl2[1]);
     for (int ch = 0; ch < nc; ch++) {
         const double *o[4];
         for (int k = 0; k < 4; k++) o[k] = L[k].coef + (size_t)ch * TC_CT_ORDINATES;
@@ -84,6 +83,7 @@ INLINE void points_body(const tc__ct_lane *L, int nc, const uint8_t *floor0) {
         v4d Da = 3 * qa, Db = 3 * qb, Ds = 3 * (3 * qc - qa - qb);
         v4d D0 = sel(is0, Ds, sel(is1, Db, Da)), D1 = sel(is0, Da, sel(is1, Ds, Db));
         v4d D2 = sel(is0, Db, sel(is1, Da, Ds));
+        v4d dl10 = GATHER(L, dl1[0]), dl11 = GATHER(L, dl1[1]), dl20 = GATHER(L, dl2[0]), dl21 = GATHER(L, dl2[1]);
         v4d gx = (D1 - D0) * dl10 + (D2 - D0) * dl20, gy = (D1 - D0) * dl11 + (D2 - D0) * dl21;
         for (int k = 0; k < 4; k++) L[k].g[2 * ch] = gx[k], L[k].g[2 * ch + 1] = gy[k];
     }

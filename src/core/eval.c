@@ -142,16 +142,21 @@ void tc__eval_points_ref(const tc_recon *r, const tc_locator *L, size_t n, const
 
 /* The frames of one thread's share of a call: a table over every triangle,
  * made up front, when the share has at least as many points as the mesh has
- * triangles; else one frame per run of consecutive points in the same
+ * triangles (and the mesh is not large); else one frame per run of consecutive points in the same
  * triangle, in a buffer per chunk. */
 typedef struct {
     tc__eval_frame *table; /* [nt] or NULL */
     tc__eval_frame *buf;   /* [CHUNK] when there is no table */
 } frames;
 
+/* A table pays for itself from about one point per triangle; past this many
+ * triangles its first touch (page faults) and cache misses cost more than
+ * a frame per run of points in Z order. */
+#define TABLE_MAX_TRIANGLES 32768
+
 static int frames_init(frames *fr, const struct tc_mesh *m, size_t npoints) {
     memset(fr, 0, sizeof *fr);
-    if (npoints >= (size_t)m->nt) {
+    if (npoints >= (size_t)m->nt && m->nt <= TABLE_MAX_TRIANGLES) {
         fr->table = tc__malloc((size_t)m->nt, sizeof *fr->table);
         if (fr->table) {
             for (int32_t t = 0; t < m->nt; t++) tc__frame(m, t, &fr->table[t]);
@@ -295,6 +300,7 @@ static void *share_main(void *arg) {
 void tc_eval_points_mt(const tc_recon *r, const tc_locator *L, size_t n, const double *xy, double *values,
                        double *grads, int32_t *tri, int threads) {
     TC_ASSERT(r && L && (n == 0 || (xy && values)));
+    tc__locator_note(L, n);
     int sort = n >= SORT_MIN_POINTS && n <= UINT32_MAX && r->m->nt >= sort_min_triangles;
     visit *order = sort ? z_order(n, xy) : NULL;
     size_t most = n / POINTS_PER_THREAD;

@@ -1,6 +1,7 @@
 /* locate.c — point location: which triangle of a mesh owns a point (x, y).
  * A static bounding-volume hierarchy over triangle boxes plus an exact top-left ownership rule. */
 #include <math.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -190,8 +191,23 @@ struct tc_locator {
     int depth; /* of the deepest leaf, root = 0; < STACK_MAX */
     struct node *nodes;
     struct slot *slots;
-    tc__locgrid *grid; /* NULL: queries walk the tree (see tc__locgrid_new) */
+    int32_t nt;
+    /* The grid is a cache in front of the tree (it changes no answer), built
+     * once enough points have been asked for to pay for it (locator_note).
+     * Queries read it with acquire; one thread builds it and publishes it
+     * with release, the others keep walking the tree meanwhile. */
+    _Atomic(tc__locgrid *) grid;  /* NULL: queries walk the tree */
+    atomic_int grid_done;         /* 1 once a build was started (built or refused) */
+    atomic_llong queries;         /* points asked for through tc__locator_note */
+    long long grid_after;         /* queries that pay for building the grid */
 };
+
+/* Queries before the grid is built; -1: the cost estimate (tests set 0). */
+static long long grid_after_override = -1;
+
+void tc__locator_grid_after(long long queries) {
+    grid_after_override = queries;
+}
 
 /* ---- building ---- */
 
@@ -366,6 +382,16 @@ static int build_index(struct tc_locator *L, const struct tc_mesh *m) {
     return rc;
 }
 
+/* Builds and publishes the grid unless a build was started already. */
+static int build_grid(struct tc_locator *L) {
+    int expected = 0;
+    if (!atomic_compare_exchange_strong(&L->grid_done, &expected, 1)) return TC_OK;
+    tc__locgrid *g = NULL;
+    int rc = tc__locgrid_new(L->slots, L->nt, &g);
+    if (g) atomic_store_explicit(&L->grid, g, memory_order_release);
+    return rc;
+}
+
 int tc_locator_new(const tc_mesh *m, tc_locator **out) {
     if (!out) return TC_EINVAL;
     *out = NULL;
@@ -375,7 +401,9 @@ int tc_locator_new(const tc_mesh *m, tc_locator **out) {
     if (!L) return TC_ENOMEM;
     if (m->nt > 0) {
         int rc = build_index(L, m);
-        if (rc == TC_OK) rc = tc__locgrid_new(L->slots, m->nt, &L->grid);
+        L->nt = m->nt;
+        L->grid_after = grid_after_override >= 0 ? grid_after_override : tc__locgrid_cost(m->nt);
+        if (rc == TC_OK && L->grid_after == 0) rc = build_grid(L);
         if (rc != TC_OK) {
             tc_locator_free(L);
             return rc;
@@ -389,7 +417,7 @@ void tc_locator_free(tc_locator *L) {
     if (!L) return;
     free(L->nodes);
     free(L->slots);
-    tc__locgrid_free(L->grid);
+    tc__locgrid_free(atomic_load(&L->grid));
     free(L);
 }
 
@@ -545,27 +573,46 @@ static inline __attribute__((always_inline)) int32_t locate_grid(const tc_locato
     return c == SIZE_MAX ? -1 : grid_owner(L, g, g->cell[c], x, y);
 }
 
+static const tc__locgrid *grid_of(const tc_locator *L) {
+    return L ? atomic_load_explicit(&((struct tc_locator *)(uintptr_t)L)->grid, memory_order_acquire) : NULL;
+}
+
 int32_t tc_locate(const tc_locator *L, double x, double y) {
-    if (L && L->grid) return locate_grid(L, L->grid, x, y);
-    return tc__locate_tree(L, x, y);
+    const tc__locgrid *g = grid_of(L);
+    return g ? locate_grid(L, g, x, y) : tc__locate_tree(L, x, y);
+}
+
+void tc__locator_note(const tc_locator *Lc, size_t n) {
+    if (!Lc || Lc->nt == 0) return;
+    /* The locator is const to its users; the grid is a cache of it, changing no
+     * answer, and every locator is allocated writable (tc_locator_new). */
+    struct tc_locator *L = (struct tc_locator *)(uintptr_t)Lc;
+    if (atomic_load_explicit(&L->grid_done, memory_order_relaxed)) return;
+    long long q = atomic_fetch_add_explicit(&L->queries, (long long)n, memory_order_relaxed) + (long long)n;
+    if (q >= L->grid_after) (void)build_grid(L); /* out of memory: the tree serves */
+}
+
+void tc__locator_grid_now(const tc_locator *L) {
+    if (L && L->nt > 0) (void)build_grid((struct tc_locator *)(uintptr_t)L);
 }
 
 int tc__locator_grid_cells(const tc_locator *L, int64_t *cells, int64_t *held) {
     *cells = *held = 0;
-    if (!L || !L->grid) return 0;
-    *cells = (int64_t)L->grid->n[0] * L->grid->n[1];
-    for (int64_t c = 0; c < *cells; c++) *held += L->grid->cell[c] < 0 && L->grid->cell[c] != TC_LOCGRID_EMPTY;
+    const tc__locgrid *g = grid_of(L);
+    if (!g) return 0;
+    *cells = (int64_t)g->n[0] * g->n[1];
+    for (int64_t c = 0; c < *cells; c++) *held += g->cell[c] < 0 && g->cell[c] != TC_LOCGRID_EMPTY;
     return 1;
 }
 
 void tc__locate_many(const tc_locator *L, size_t n, const double *xy, int32_t *tri) {
-    if (!L || !L->grid) {
+    const tc__locgrid *g = grid_of(L);
+    if (!g) {
         for (size_t i = 0; i < n; i++) tri[i] = tc__locate_tree(L, xy[2 * i], xy[2 * i + 1]);
         return;
     }
     /* In groups: every cell word of a group is asked for before the first is
      * used, then every list, so the cache misses of random points overlap. */
-    const tc__locgrid *g = L->grid;
     enum { GROUP = 16 };
     for (size_t i0 = 0; i0 < n; i0 += GROUP) {
         size_t k = n - i0 < GROUP ? n - i0 : GROUP, cell[GROUP];

@@ -121,18 +121,31 @@ static int holds(const struct tc__slot *s, double x0, double x1, double y0, doub
     return 1;
 }
 
-/* Calls place(c) for every cell c the slot's box covers and its triangle may meet. */
-#define FOR_CELLS(g, s, b, BODY)                                                                          \
+/* cell_range of every column and row, computed once: [2c] and [2c + 1]. */
+typedef struct {
+    double *r[2];
+} ranges;
+
+static int ranges_new(const tc__locgrid *g, ranges *R) {
+    for (int a = 0; a < 2; a++) {
+        R->r[a] = tc__malloc((size_t)g->n[a], 2 * sizeof *R->r[a]);
+        if (!R->r[a]) return TC_ENOMEM;
+        for (int32_t c = 0; c < g->n[a]; c++) cell_range(g, a, c, &R->r[a][2 * c], &R->r[a][2 * c + 1]);
+    }
+    return TC_OK;
+}
+
+/* Runs BODY (with c the cell's index) for every cell c the slot's box covers
+ * and its triangle may meet (a box within one cell: that cell, no test). */
+#define FOR_CELLS(g, R, s, b, BODY)                                                                       \
     do {                                                                                                 \
         int32_t x0_ = tc__locgrid_cell(g, 0, (b)[0]), x1_ = tc__locgrid_cell(g, 0, (b)[2]);               \
         int32_t y0_ = tc__locgrid_cell(g, 1, (b)[1]), y1_ = tc__locgrid_cell(g, 1, (b)[3]);               \
         for (int32_t cy_ = y0_; cy_ <= y1_; cy_++) {                                                     \
-            double ya_, yb_;                                                                             \
-            cell_range(g, 1, cy_, &ya_, &yb_);                                                           \
+            const double *ry_ = (R)->r[1] + 2 * cy_;                                                     \
             for (int32_t cx_ = x0_; cx_ <= x1_; cx_++) {                                                 \
-                double xa_, xb_;                                                                         \
-                cell_range(g, 0, cx_, &xa_, &xb_);                                                       \
-                if ((x0_ < x1_ || y0_ < y1_) && misses(s, xa_, xb_, ya_, yb_)) continue;                \
+                const double *rx_ = (R)->r[0] + 2 * cx_;                                                 \
+                if ((x0_ < x1_ || y0_ < y1_) && misses(s, rx_[0], rx_[1], ry_[0], ry_[1])) continue;    \
                 size_t c = (size_t)cy_ * (size_t)(g)->n[0] + (size_t)cx_;                                \
                 BODY;                                                                                    \
             }                                                                                            \
@@ -140,43 +153,38 @@ static int holds(const struct tc__slot *s, double x0, double x1, double y0, doub
     } while (0)
 
 /* Cell c with the single candidate `slot`: does the slot hold the whole cell? */
-static int cell_held(const tc__locgrid *g, const struct tc__slot *s, size_t c) {
-    double xa, xb, ya, yb;
-    cell_range(g, 0, (int32_t)(c % (size_t)g->n[0]), &xa, &xb);
-    cell_range(g, 1, (int32_t)(c / (size_t)g->n[0]), &ya, &yb);
-    return holds(s, xa, xb, ya, yb);
+static int cell_held(const tc__locgrid *g, const ranges *R, const struct tc__slot *s, size_t c) {
+    const double *rx = R->r[0] + 2 * (c % (size_t)g->n[0]), *ry = R->r[1] + 2 * (c / (size_t)g->n[0]);
+    return holds(s, rx[0], rx[1], ry[0], ry[1]);
 }
 
 /* Writes the final layout (locgrid.h) from the lists items[start[c] ..
  * next[c]) of each cell: a held cell's word is -1 - its triangle, an empty
  * one's TC_LOCGRID_EMPTY, the others' their list's offset in g->items. */
-static int compact(tc__locgrid *g, const struct tc__slot *slots, const int32_t *start, const int32_t *next,
-                   const int32_t *items) {
+static int compact(tc__locgrid *g, const ranges *R, const struct tc__slot *slots, const int32_t *start,
+                   const int32_t *next, const int32_t *items) {
     size_t ncell = (size_t)g->n[0] * (size_t)g->n[1];
     int64_t total = 0;
-    for (size_t c = 0; c < ncell; c++) {
+    for (size_t c = 0; c < ncell; c++) { /* the words of empty and held cells; the others' sizes */
         int32_t k = next[c] - start[c];
-        if (k > 1 || (k == 1 && !cell_held(g, &slots[items[start[c]]], c)))
-            total += 1 + (k + TC_LOCGRID_BLOCK - 1) / TC_LOCGRID_BLOCK * TC_LOCGRID_BLOCK;
+        g->cell[c] = 0;
+        if (k == 0) g->cell[c] = TC_LOCGRID_EMPTY;
+        else if (k == 1 && cell_held(g, R, &slots[items[start[c]]], c)) g->cell[c] = -1 - slots[items[start[c]]].t;
+        else total += 1 + (k + TC_LOCGRID_BLOCK - 1) / TC_LOCGRID_BLOCK * TC_LOCGRID_BLOCK;
     }
     if (total > INT32_MAX) return TC_ELIMIT;
     g->items = tc__malloc((size_t)total, sizeof *g->items);
     if (!g->items) return TC_ENOMEM;
     int32_t at = 0;
     for (size_t c = 0; c < ncell; c++) {
-        int32_t k = next[c] - start[c];
+        if (g->cell[c] < 0) continue;
+        int32_t k = next[c] - start[c]; /* count, the slots, the last one repeated up to a whole block */
         const int32_t *list = items + start[c];
-        if (k == 0) {
-            g->cell[c] = TC_LOCGRID_EMPTY;
-        } else if (k == 1 && cell_held(g, &slots[list[0]], c)) {
-            g->cell[c] = -1 - slots[list[0]].t;
-        } else { /* count, the slots, the last one repeated up to a whole block */
-            int32_t padded = (k + TC_LOCGRID_BLOCK - 1) / TC_LOCGRID_BLOCK * TC_LOCGRID_BLOCK;
-            g->cell[c] = at;
-            g->items[at] = padded;
-            for (int32_t i = 0; i < padded; i++) g->items[at + 1 + i] = list[i < k ? i : k - 1];
-            at += 1 + padded;
-        }
+        int32_t padded = (k + TC_LOCGRID_BLOCK - 1) / TC_LOCGRID_BLOCK * TC_LOCGRID_BLOCK;
+        g->cell[c] = at;
+        g->items[at] = padded;
+        for (int32_t i = 0; i < padded; i++) g->items[at + 1 + i] = list[i < k ? i : k - 1];
+        at += 1 + padded;
     }
     return TC_OK;
 }
@@ -186,10 +194,11 @@ static int compact(tc__locgrid *g, const struct tc__slot *slots, const int32_t *
 static int fill(tc__locgrid *g, const struct tc__slot *slots, const double *box, int32_t nt) {
     size_t ncell = (size_t)g->n[0] * (size_t)g->n[1];
     int32_t *start = tc__calloc(ncell + 1, sizeof *start), *next = tc__malloc(ncell, sizeof *next), *items = NULL;
+    ranges R = {{NULL, NULL}};
     g->cell = tc__malloc(ncell, sizeof *g->cell);
-    int rc = start && next && g->cell ? TC_OK : TC_ENOMEM;
+    int rc = start && next && g->cell ? ranges_new(g, &R) : TC_ENOMEM;
     if (rc == TC_OK) {
-        for (int32_t i = 0; i < nt; i++) FOR_CELLS(g, &slots[i], box + 4 * (size_t)i, start[c + 1]++);
+        for (int32_t i = 0; i < nt; i++) FOR_CELLS(g, &R, &slots[i], box + 4 * (size_t)i, start[c + 1]++);
         for (size_t c = 0; c < ncell && rc == TC_OK; c++) {
             if ((int64_t)start[c + 1] + start[c] > INT32_MAX) rc = TC_ELIMIT;
             else start[c + 1] += start[c];
@@ -201,13 +210,20 @@ static int fill(tc__locgrid *g, const struct tc__slot *slots, const double *box,
     }
     if (rc == TC_OK) {
         memcpy(next, start, ncell * sizeof *next);
-        for (int32_t i = 0; i < nt; i++) FOR_CELLS(g, &slots[i], box + 4 * (size_t)i, items[next[c]++] = i);
-        rc = compact(g, slots, start, next, items);
+        for (int32_t i = 0; i < nt; i++) FOR_CELLS(g, &R, &slots[i], box + 4 * (size_t)i, items[next[c]++] = i);
+        rc = compact(g, &R, slots, start, next, items);
     }
-    free(start);
-    free(next);
-    free(items);
+    free(start), free(next), free(items), free(R.r[0]), free(R.r[1]);
     return rc;
+}
+
+/* Cells per triangle of the first grid tried. */
+static double cells_per_triangle(int32_t nt) {
+    return fmax(CELLS_LARGE, fmin(CELLS_SMALL, CELL_BUDGET / nt));
+}
+
+long long tc__locgrid_cost(int32_t nt) {
+    return (long long)(cells_per_triangle(nt) * nt) + 8 * (long long)nt;
 }
 
 int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out) {
@@ -233,7 +249,7 @@ int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out)
         g->hi[0] = fmax(g->hi[0], b[2]), g->hi[1] = fmax(g->hi[1], b[3]);
     }
     int64_t total = -1, limit = (int64_t)ITEMS_PER_TRIANGLE * nt;
-    double per = fmax(CELLS_LARGE, fmin(CELLS_SMALL, CELL_BUDGET / nt));
+    double per = cells_per_triangle(nt);
     double cells = per * nt;
     for (int k = 0; rc == TC_OK && k < TRIES && total < 0; k++, cells /= 4) {
         size_grid(g, cells);

@@ -78,6 +78,7 @@ static void check_mesh_owners(const struct tc_mesh *m, unsigned long seed) {
     tc_locator *L = NULL;
     CHECK(tc_locator_new(m, &L) == TC_OK);
     if (!L) return;
+    tc__locator_grid_now(L);
     trng r;
     trng_seed(&r, seed);
     pts p = {0};
@@ -173,8 +174,10 @@ TEST(points_owner_same_as_tree_invalid_meshes) {
     check_mesh_owners(&b.m, tc_test_seed() + 340);
 }
 
-/* The fast path is there: a grid mesh gets a grid, most of whose cells lie
- * inside one triangle (answered with no test). */
+/* The fast path is there: a grid mesh's locator gets its grid once enough
+ * points were asked for (not before: a request of a few points on a fresh
+ * mesh must not pay for it), and most of its cells lie inside one triangle
+ * (answered with no test). */
 TEST(points_grid_built) {
     trng r;
     trng_seed(&r, 7);
@@ -182,12 +185,20 @@ TEST(points_grid_built) {
     tmesh_grid(&g, 16, 16, 0, 0, &r);
     tmesh_sample(&g, 1, smooth_f, NULL, 0, 0, 0);
     tc_mesh *m = tmesh_build(&g);
+    tc_recon *rec = NULL;
     tc_locator *L = NULL;
-    CHECK(m && tc_locator_new(m, &L) == TC_OK);
+    CHECK(m && tc_recon_new(m, NULL, &rec, NULL) == TC_OK && tc_locator_new(m, &L) == TC_OK);
     int64_t cells = 0, held = 0;
-    CHECK(tc__locator_grid_cells(L, &cells, &held) == 1);
+    CHECK_MSG(tc__locator_grid_cells(L, &cells, &held) == 0, "a fresh locator has a grid already");
+    enum { N = 8192 };
+    static double xy[2 * N], v[N];
+    for (int i = 0; i < 2 * N; i++) xy[i] = trng_uniform(&r);
+    tc_eval_points(rec, L, N, xy, v, NULL, NULL);
+    CHECK_MSG(tc__locator_grid_cells(L, &cells, &held) == 0, "a grid after %d points", N);
+    for (int k = 0; k < 40 && !tc__locator_grid_cells(L, &cells, &held); k++) tc_eval_points(rec, L, N, xy, v, NULL, NULL);
     CHECK_MSG(cells >= 512 && held * 2 > cells, "%lld cells, %lld held", (long long)cells, (long long)held);
     tc_locator_free(L);
+    tc_recon_free(rec);
     tc_mesh_free(m);
     tmesh_free(&g);
 }
@@ -239,6 +250,7 @@ TEST(points_values_same_as_reference) {
         }
         tc_locator *L = NULL;
         CHECK(tc_locator_new(m, &L) == TC_OK);
+        tc__locator_grid_now(L);
         pts p = {0};
         stress_points(m, &r, &p);
         for (int meth = 0; meth < tc_method_count(); meth++) {
