@@ -12,10 +12,12 @@
  * too long in all (long boxes cover many cells). Small meshes get many cells,
  * so that most cells lie inside one triangle and need no test at all (on a
  * 512-triangle grid: 18% of the cells at 8 per triangle, 51% at 32, 73% at
- * 128; locating a random point 34, 29, 16 ns), up to CELL_BUDGET cells in all
- * (~2 MiB with the lists); large meshes ~2 per triangle (lists of ~4 slots,
- * ~40 bytes per triangle). */
-#define CELLS_SMALL 128.0
+ * 128; a random point's location plus evaluation took 56, 47, 38 ns, and 32
+ * against 27 ns from 128 to 256 per triangle), up to CELL_BUDGET cells in all
+ * (1 MiB of cell words, plus the lists); large meshes ~2 per triangle (lists
+ * of ~4 slots, ~40 bytes per triangle). The grid is built only once enough
+ * points were asked for to pay for it (tc__locgrid_cost, locate.c). */
+#define CELLS_SMALL 256.0
 #define CELL_BUDGET 262144.0
 #define CELLS_LARGE 2.0
 #define TRIES 4
