@@ -11,6 +11,8 @@
 #include "core/locate.h"
 #include "core/mesh.h"
 #include "core/recon.h"
+#include "io/response.h"
+#include "io/strbuf.h"
 #include "meshgen.h"
 #include "props.h"
 
@@ -313,4 +315,33 @@ TEST(points_threads_same_bits) {
     tc_recon_free(rec);
     tc_mesh_free(m);
     tmesh_free(&g);
+}
+
+/* ---- the answer's printer ------------------------------------------------------------ */
+
+static int stop_calls;
+static int stop_after_two(void *ctx) {
+    (void)ctx;
+    return ++stop_calls > 2;
+}
+
+/* With evaluation fast, printing is most of a large /v1/evaluate answer: the
+ * printer polls the deadline every few thousand points and gives up when told
+ * (tests/endpoint's deadline check sees the 503 through the daemon); left
+ * alone, it writes exactly what tc_json_points_enc writes. */
+TEST(points_answer_printing_stops) {
+    enum { N = 50000 };
+    static double v[N], g[2 * N];
+    static int32_t tri[N];
+    for (int i = 0; i < N; i++) v[i] = i * 0.25, g[2 * i] = -i, g[2 * i + 1] = 1.0 / (i + 1), tri[i] = i % 7 ? 0 : -1;
+    tc_strbuf a, b;
+    tc_strbuf_init(&a), tc_strbuf_init(&b);
+    tc_json_points_enc(&a, 1, N, v, g, tri, 1, 0);
+    CHECK(tc_json_points_enc_until(&b, 1, N, v, g, tri, 1, 0, NULL, NULL) == 0);
+    CHECK(a.len == b.len && memcmp(a.buf, b.buf, a.len) == 0);
+    tc_strbuf_free(&b), tc_strbuf_init(&b);
+    stop_calls = 0;
+    CHECK(tc_json_points_enc_until(&b, 1, N, v, g, tri, 1, 0, stop_after_two, NULL) == -1);
+    CHECK_MSG(stop_calls == 3 && b.len < a.len / 2, "%d checks, %zu of %zu bytes", stop_calls, b.len, a.len);
+    tc_strbuf_free(&a), tc_strbuf_free(&b);
 }
