@@ -220,13 +220,14 @@ static void check_batch(const tc_recon *r, const tc_locator *L, size_t n, const 
             memset(v1, 0x55, nv * sizeof *v1), memset(g1, 0x55, 2 * nv * sizeof *g1);
             tc_eval_points_mt(r, L, n, xy, v1, grads ? g1 : NULL, t1, threads);
             int bad = 0;
+            size_t c = (size_t)nc;
             for (size_t i = 0; i < n; i++) {
-                int d = t0[i] != t1[i] || memcmp(v0 + i * nc, v1 + i * nc, (size_t)nc * sizeof *v0) ||
-                        (grads && memcmp(g0 + 2 * i * nc, g1 + 2 * i * nc, 2 * (size_t)nc * sizeof *g0));
+                int d = t0[i] != t1[i] || memcmp(v0 + i * c, v1 + i * c, c * sizeof *v0) ||
+                        (grads && memcmp(g0 + 2 * i * c, g1 + 2 * i * c, 2 * c * sizeof *g0));
                 if (d && bad++ < 3)
                     CHECK_MSG(0, "%s, %d threads%s: point %zu (%.17g, %.17g): tri %d / %d, value %.17g / %.17g", what,
                               threads, grads ? ", gradients" : "", i, xy[2 * i], xy[2 * i + 1], (int)t1[i], (int)t0[i],
-                              v1[i * nc], v0[i * nc]);
+                              v1[i * c], v0[i * c]);
             }
         }
     free(v0), free(g0), free(v1), free(g1), free(t0), free(t1);
