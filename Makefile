@@ -71,9 +71,10 @@ $(BUILD)/obj/%.o: %.c
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 # GCC notes that 32-byte vectors passed by value change the ABI without AVX: they pass only
-# between always-inline functions of one build, never across a call (ct_span.c, ct_fast.h).
+# between always-inline functions of one build, never across a call (ct_span.c, ct_fast.h,
+# ct_points.c).
 $(BUILD)/obj/src/core/ct_span.o $(BUILD)/obj/src/core/ct_fast.o $(BUILD)/obj/src/core/raster.o \
-  $(BUILD)/obj/tests/unit/test_raster.o: ALL_CFLAGS += -Wno-psabi
+  $(BUILD)/obj/src/core/ct_points.o $(BUILD)/obj/tests/unit/test_raster.o: ALL_CFLAGS += -Wno-psabi
 # The render loop is worth -O3 (unrolling, +17% Mpixel/s per thread measured on a 1024² tile of
 # 8192 triangles); only where the build is optimized anyway (`make check` keeps its -O1).
 $(BUILD)/obj/src/core/raster.o: ALL_CFLAGS += $(if $(filter -O2,$(OPT)),-O3)
@@ -108,6 +109,10 @@ $(BUILD)/bench_perf: $(call obj,bench/perf/perf.c) $(BUILD)/libtocher.a
 
 # Validation against build, at n and 4n and per thread count (issue 17): bench/perf/validate.c.
 $(BUILD)/bench_validate: $(call obj,bench/perf/validate.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
+
+# Scattered points (issue 17 §3): the batch path against the one it replaced (bench/perf/points.py).
+$(BUILD)/bench_points: $(call obj,bench/perf/points.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(LIBS) -o $@
 
 # Number printing (issue 17): tc_fmt_double against the cascade it replaced and printf.

@@ -371,6 +371,10 @@ void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y,
  * value 0 and gradient 0 and tri -1: never NaN. */
 void tc_eval_points(const tc_recon *r, const tc_locator *L, size_t n, const double *xy,
                     double *values, double *grads, int32_t *tri);
+/* The same on up to `threads` threads (fewer for small batches; < 1 means 1):
+ * every result is bit for bit tc_eval_points', whatever the thread count. */
+void tc_eval_points_mt(const tc_recon *r, const tc_locator *L, size_t n, const double *xy,
+                       double *values, double *grads, int32_t *tri, int threads);
 
 /* ---- rendering tiles ------------------------------------------------------ */
 

@@ -1,10 +1,13 @@
 /* locate.c — point location: which triangle of a mesh owns a point (x, y).
  * A static bounding-volume hierarchy over triangle boxes plus an exact top-left ownership rule. */
 #include <math.h>
+#include <stdatomic.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 
 #include "core/locate.h"
+#include "core/locgrid.h"
 #include "core/mesh.h"
 
 /* ==== The ownership rule =====================================================
@@ -188,7 +191,23 @@ struct tc_locator {
     int depth; /* of the deepest leaf, root = 0; < STACK_MAX */
     struct node *nodes;
     struct slot *slots;
+    int32_t nt;
+    /* The grid is a cache in front of the tree (it changes no answer), built
+     * once enough points have been asked for to pay for it (locator_note).
+     * Queries read it with acquire; one thread builds it and publishes it
+     * with release, the others keep walking the tree meanwhile. */
+    _Atomic(tc__locgrid *) grid;  /* NULL: queries walk the tree */
+    atomic_int grid_done;         /* 1 once a build was started (built or refused) */
+    atomic_llong queries;         /* points asked for through tc__locator_note */
+    long long grid_after;         /* queries that pay for building the grid */
 };
+
+/* Queries before the grid is built; -1: the cost estimate (tests set 0). */
+static long long grid_after_override = -1;
+
+void tc__locator_grid_after(long long queries) {
+    grid_after_override = queries;
+}
 
 /* ---- building ---- */
 
@@ -363,6 +382,16 @@ static int build_index(struct tc_locator *L, const struct tc_mesh *m) {
     return rc;
 }
 
+/* Builds and publishes the grid unless a build was started already. */
+static int build_grid(struct tc_locator *L) {
+    int expected = 0;
+    if (!atomic_compare_exchange_strong(&L->grid_done, &expected, 1)) return TC_OK;
+    tc__locgrid *g = NULL;
+    int rc = tc__locgrid_new(L->slots, L->nt, &g);
+    if (g) atomic_store_explicit(&L->grid, g, memory_order_release);
+    return rc;
+}
+
 int tc_locator_new(const tc_mesh *m, tc_locator **out) {
     if (!out) return TC_EINVAL;
     *out = NULL;
@@ -372,6 +401,9 @@ int tc_locator_new(const tc_mesh *m, tc_locator **out) {
     if (!L) return TC_ENOMEM;
     if (m->nt > 0) {
         int rc = build_index(L, m);
+        L->nt = m->nt;
+        L->grid_after = grid_after_override >= 0 ? grid_after_override : tc__locgrid_cost(m->nt);
+        if (rc == TC_OK && L->grid_after == 0) rc = build_grid(L);
         if (rc != TC_OK) {
             tc_locator_free(L);
             return rc;
@@ -385,6 +417,7 @@ void tc_locator_free(tc_locator *L) {
     if (!L) return;
     free(L->nodes);
     free(L->slots);
+    tc__locgrid_free(atomic_load(&L->grid));
     free(L);
 }
 
@@ -401,7 +434,7 @@ enum { SLOT_OUT = TC_SLOT_OUT, SLOT_TOUCH = TC_SLOT_TOUCH, SLOT_OWN = TC_SLOT_OW
  * contains P in the closed sense (P on an edge whose tie goes elsewhere), else
  * SLOT_OUT. An edge with the triangle on its left admits val >= 0, one with the
  * triangle on its right admits val < 0 strictly and val == 0 only closed. */
-int tc__slot_test(const struct slot *s, double x, double y) {
+static inline __attribute__((always_inline)) int slot_test(const struct slot *s, double x, double y) {
     int touch = 0;
     for (int k = 0; k < 3; k++) {
         int j = k == 2 ? 0 : k + 1;
@@ -416,19 +449,54 @@ int tc__slot_test(const struct slot *s, double x, double y) {
     return touch ? SLOT_TOUCH : SLOT_OWN;
 }
 
+int tc__slot_test(const struct slot *s, double x, double y) {
+    return slot_test(s, x, y);
+}
+
+/* slot_test's answer, first from the three determinants in floating point with
+ * no branch per edge: an edge whose determinant clears the error bound has an
+ * exact sign (the bound certifies it, as in orient_sign); one certain edge
+ * with the point outside makes it OUT, three certain edges inside make it OWN
+ * (certain means non-zero, so no tie is involved). Only when neither holds,
+ * a point on or within rounding of an edge, is the exact test run. */
+/* The filter of one edge a -> b of the slot (counter-clockwise, so its
+ * inside is on the left): bit 0 when the sign of cross(b - a, P - a) is
+ * certain and negative (P outside), bit 1 when it is not certain. The rule's
+ * canonical frame runs a -> b for a left edge and b -> a otherwise, whose
+ * determinant has the opposite exact sign; either way a certain negative sign
+ * here means P is outside (left: val < 0; right: val > 0), and a certain
+ * positive one means P is strictly inside that half-plane. The error bound is
+ * orient_sign's, valid for this expression of any three points. */
+static inline __attribute__((always_inline)) int edge_filter(double ax, double ay, double bx, double by, double x,
+                                                             double y) {
+    double l = (bx - ax) * (y - ay), r = (by - ay) * (x - ax), det = l - r;
+    int sure = fabs(det) > ORIENT_ERRBOUND * (fabs(l) + fabs(r));
+    return (sure & (det < 0)) | !sure << 1;
+}
+
+/* The three edge filters of a slot: 0 when all three are certain and inside
+ * (the point is strictly inside: SLOT_OWN), bit 0 when a certain edge puts it
+ * outside (SLOT_OUT), bit 1 when some edge is unsure (then only the exact
+ * test can tell; bit 0 still means OUT whatever the others say). */
+static inline __attribute__((always_inline)) int slot_filter(const struct slot *s, double x, double y) {
+    return edge_filter(s->x[0], s->y[0], s->x[1], s->y[1], x, y) |
+           edge_filter(s->x[1], s->y[1], s->x[2], s->y[2], x, y) |
+           edge_filter(s->x[2], s->y[2], s->x[0], s->y[0], x, y);
+}
+
 /* Tests the leaf's triangles: returns a strict owner, or -1 after lowering
  * *closed (-1 = none yet) to the lowest index of a closed-only container. */
 static int32_t leaf_test(const tc_locator *L, const struct node *leaf, double x, double y, int32_t *closed) {
     for (int32_t i = leaf->first; i < leaf->first + leaf->count; i++) {
         const struct slot *s = &L->slots[i];
-        int r = tc__slot_test(s, x, y);
+        int r = slot_test(s, x, y);
         if (r == SLOT_OWN) return s->t; /* unique in a valid mesh */
         if (r == SLOT_TOUCH && (*closed < 0 || s->t < *closed)) *closed = s->t;
     }
     return -1;
 }
 
-int32_t tc_locate(const tc_locator *L, double x, double y) {
+int32_t tc__locate_tree(const tc_locator *L, double x, double y) {
     if (!L || L->nnodes == 0) return -1;
     int32_t stack[STACK_MAX];
     int sp = 0;
@@ -448,6 +516,117 @@ int32_t tc_locate(const tc_locator *L, double x, double y) {
         }
         if (sp == 0) return closed;
         n = stack[--sp];
+    }
+}
+
+/* The tree's answer through the grid. The tree visits leaves in slot order
+ * (depth first, left first, each leaf a run of slots), and a triangle whose box
+ * misses P is OUT exactly, so tc__locate_tree returns the first strict owner in
+ * slot order among the triangles whose boxes hold P, else the lowest index of
+ * a closed container among them, else -1 (also outside the root box, which is
+ * the grid's box). P's cell lists every one of those triangles, in slot order:
+ * the same scan over it gives the same answer for any mesh, valid or not. */
+/* The exact scan of one block: first strict owner, else lowers *closed. */
+static int32_t block_exact(const tc_locator *L, const int32_t *items, double x, double y, int32_t *closed) {
+    for (int k = 0; k < TC_LOCGRID_BLOCK; k++) {
+        const struct slot *s = &L->slots[items[k]];
+        int r = slot_test(s, x, y);
+        if (r == SLOT_OWN) return s->t;
+        if (r == SLOT_TOUCH && (*closed < 0 || s->t < *closed)) *closed = s->t;
+    }
+    return -1;
+}
+
+/* P's cell, or SIZE_MAX outside the grid's box (NaN included): then the tree
+ * would find no triangle either (the box is the root's). */
+static inline __attribute__((always_inline)) size_t grid_cell(const tc__locgrid *g, double x, double y) {
+    if (!(x >= g->lo[0] && x <= g->hi[0] && y >= g->lo[1] && y <= g->hi[1])) return SIZE_MAX;
+    return (size_t)tc__locgrid_cell(g, 1, y) * (size_t)g->n[0] + (size_t)tc__locgrid_cell(g, 0, x);
+}
+
+/* The owner of P in cell c, whose word is w. */
+static inline __attribute__((always_inline)) int32_t grid_owner(const tc_locator *L, const tc__locgrid *g, int32_t w,
+                                                                double x, double y) {
+    if (w < 0) return w == TC_LOCGRID_EMPTY ? -1 : -1 - w; /* none, or a cell inside one triangle */
+    const int32_t *list = g->items + w + 1;
+    int32_t k = list[-1], closed = -1;
+    if (k > TC_LOCGRID_MAX) return tc__locate_tree(L, x, y);
+    /* A block's filters run without a branch between them; only a point
+     * within rounding of an edge (a filter unsure) takes the exact scan. */
+    for (int32_t i = 0; i < k; i += TC_LOCGRID_BLOCK) {
+        const int32_t *it = list + i;
+        int f0 = slot_filter(&L->slots[it[0]], x, y), f1 = slot_filter(&L->slots[it[1]], x, y);
+        if ((f0 == 2) | (f1 == 2)) { /* unsure and not OUT: the block exactly, in order */
+            int32_t t = block_exact(L, it, x, y, &closed);
+            if (t >= 0) return t;
+            continue;
+        }
+        if (f0 == 0) return L->slots[it[0]].t;
+        if (f1 == 0) return L->slots[it[1]].t;
+    }
+    return closed;
+}
+
+static inline __attribute__((always_inline)) int32_t locate_grid(const tc_locator *L, const tc__locgrid *g, double x,
+                                                                 double y) {
+    size_t c = grid_cell(g, x, y);
+    return c == SIZE_MAX ? -1 : grid_owner(L, g, g->cell[c], x, y);
+}
+
+static const tc__locgrid *grid_of(const tc_locator *L) {
+    return L ? atomic_load_explicit(&((struct tc_locator *)(uintptr_t)L)->grid, memory_order_acquire) : NULL;
+}
+
+int32_t tc_locate(const tc_locator *L, double x, double y) {
+    const tc__locgrid *g = grid_of(L);
+    return g ? locate_grid(L, g, x, y) : tc__locate_tree(L, x, y);
+}
+
+void tc__locator_note(const tc_locator *Lc, size_t n) {
+    if (!Lc || Lc->nt == 0) return;
+    /* The locator is const to its users; the grid is a cache of it, changing no
+     * answer, and every locator is allocated writable (tc_locator_new). */
+    struct tc_locator *L = (struct tc_locator *)(uintptr_t)Lc;
+    if (atomic_load_explicit(&L->grid_done, memory_order_relaxed)) return;
+    long long q = atomic_fetch_add_explicit(&L->queries, (long long)n, memory_order_relaxed) + (long long)n;
+    if (q >= L->grid_after) (void)build_grid(L); /* out of memory: the tree serves */
+}
+
+void tc__locator_grid_now(const tc_locator *L) {
+    if (L && L->nt > 0) (void)build_grid((struct tc_locator *)(uintptr_t)L);
+}
+
+int tc__locator_grid_cells(const tc_locator *L, int64_t *cells, int64_t *held) {
+    *cells = *held = 0;
+    const tc__locgrid *g = grid_of(L);
+    if (!g) return 0;
+    *cells = (int64_t)g->n[0] * g->n[1];
+    for (int64_t c = 0; c < *cells; c++) *held += g->cell[c] < 0 && g->cell[c] != TC_LOCGRID_EMPTY;
+    return 1;
+}
+
+void tc__locate_many(const tc_locator *L, size_t n, const double *xy, int32_t *tri) {
+    const tc__locgrid *g = grid_of(L);
+    if (!g) {
+        for (size_t i = 0; i < n; i++) tri[i] = tc__locate_tree(L, xy[2 * i], xy[2 * i + 1]);
+        return;
+    }
+    /* In groups: every cell word of a group is asked for before the first is
+     * used, then every list, so the cache misses of random points overlap. */
+    enum { GROUP = 16 };
+    for (size_t i0 = 0; i0 < n; i0 += GROUP) {
+        size_t k = n - i0 < GROUP ? n - i0 : GROUP, cell[GROUP];
+        int32_t word[GROUP];
+        const double *p = xy + 2 * i0;
+        for (size_t j = 0; j < k; j++) {
+            cell[j] = grid_cell(g, p[2 * j], p[2 * j + 1]);
+            if (cell[j] != SIZE_MAX) __builtin_prefetch(&g->cell[cell[j]]);
+        }
+        for (size_t j = 0; j < k; j++) {
+            word[j] = cell[j] == SIZE_MAX ? TC_LOCGRID_EMPTY : g->cell[cell[j]];
+            if (word[j] >= 0) __builtin_prefetch(&g->items[word[j]]);
+        }
+        for (size_t j = 0; j < k; j++) tri[i0 + j] = grid_owner(L, g, word[j], p[2 * j], p[2 * j + 1]);
     }
 }
 

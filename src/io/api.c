@@ -55,6 +55,17 @@ static int late(const tc_api_limits *lim, tc_api_result *res, const char *doing)
     return 1;
 }
 
+/* late() as a callback of the printer. */
+typedef struct {
+    const tc_api_limits *lim;
+    tc_api_result *res;
+} late_ctx;
+
+static int late_printing(void *ctx) {
+    late_ctx *lc = ctx;
+    return late(lc->lim, lc->res, "writing the answer");
+}
+
 /* Points evaluated between two deadline checks (each point is independent:
  * chunks change nothing but the checks), and points compared between two
  * checks (pooling chunks rounds differently: a request of fewer points is
@@ -234,10 +245,12 @@ static int evaluate(const job *j, const tc_request *pts, tc_strbuf *b, const tc_
              : j->locator                                   ? TC_OK
                                                             : tc_locator_new(j->mesh, &L);
     if (rc == TC_OK && eval_chunked(j, L ? L : j->locator, pts, nc, val, grad, tri, lim, res)) rc = TC_ETIMEOUT;
-    if (rc == TC_OK) {
+    if (rc == TC_OK) { /* printing is most of a large answer now: the deadline is checked in it too */
         tc_strbuf_putc(b, '{');
-        tc_json_points_enc(b, nc, n, val, grad, tri, j->req->values_plain,
-                           pts->encoding_base64 || j->req->encoding_base64);
+        late_ctx lc = {lim, res};
+        if (tc_json_points_enc_until(b, nc, n, val, grad, tri, j->req->values_plain,
+                                     pts->encoding_base64 || j->req->encoding_base64, late_printing, &lc))
+            rc = TC_ETIMEOUT;
     }
     tc_locator_free(L);
     free(val), free(grad), free(tri);

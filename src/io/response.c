@@ -184,18 +184,22 @@ static void outside(tc_strbuf *b, size_t n, const int32_t *tri) {
     tc_strbuf_putc(b, ']');
 }
 
-void tc_json_points_enc(tc_strbuf *b, int nc, size_t n, const double *values, const double *grads,
-                        const int32_t *tri, int plain, int base64) {
+/* Points written between two calls of the stop check. */
+#define STOP_EVERY 8192
+
+int tc_json_points_enc_until(tc_strbuf *b, int nc, size_t n, const double *values, const double *grads,
+                             const int32_t *tri, int plain, int base64, int (*stop)(void *), void *ctx) {
     if (base64) {
         member(b, "values");
         typed_points(b, nc, n, values, 1, tri, plain);
         if (grads) member(b, "gradients"), typed_points(b, nc, n, grads, 2, tri, plain);
         outside(b, n, tri);
-        return;
+        return 0;
     }
     member(b, "values");
     tc_strbuf_putc(b, '[');
     for (size_t i = 0; i < n; i++) {
+        if (stop && i % STOP_EVERY == STOP_EVERY - 1 && stop(ctx)) return -1;
         if (i) tc_strbuf_putc(b, ',');
         point_entry(b, values + i * (size_t)nc, nc, 1, plain, tri && tri[i] < 0);
     }
@@ -204,12 +208,19 @@ void tc_json_points_enc(tc_strbuf *b, int nc, size_t n, const double *values, co
         member(b, "gradients");
         tc_strbuf_putc(b, '[');
         for (size_t i = 0; i < n; i++) {
+            if (stop && i % STOP_EVERY == STOP_EVERY - 1 && stop(ctx)) return -1;
             if (i) tc_strbuf_putc(b, ',');
             point_entry(b, grads + 2 * i * (size_t)nc, nc, 2, plain, tri && tri[i] < 0);
         }
         tc_strbuf_putc(b, ']');
     }
     outside(b, n, tri);
+    return 0;
+}
+
+void tc_json_points_enc(tc_strbuf *b, int nc, size_t n, const double *values, const double *grads,
+                        const int32_t *tri, int plain, int base64) {
+    (void)tc_json_points_enc_until(b, nc, n, values, grads, tri, plain, base64, NULL, NULL);
 }
 
 void tc_json_diags(tc_strbuf *b, const char *name, const tc_diags *d, tc_severity sev) {

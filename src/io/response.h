@@ -25,6 +25,11 @@ void tc_json_points(tc_strbuf *b, int nc, size_t n, const double *values, const 
  * form's shape ([n] or [n][C]; [n][2] or [n][C][2]), NaN where it has null. */
 void tc_json_points_enc(tc_strbuf *b, int nc, size_t n, const double *values, const double *grads,
                         const int32_t *tri, int plain, int base64);
+/* The same, calling stop(ctx) every few thousand points of the JSON form: when
+ * it returns non-zero the output is abandoned unfinished and -1 returned (a
+ * request past its deadline stops printing). 0 when written whole. */
+int tc_json_points_enc_until(tc_strbuf *b, int nc, size_t n, const double *values, const double *grads,
+                             const int32_t *tri, int plain, int base64, int (*stop)(void *), void *ctx);
 
 /* "warnings": [{"path","message"}...] or "errors": [...] from d. */
 void tc_json_diags(tc_strbuf *b, const char *member, const tc_diags *d, tc_severity sev);

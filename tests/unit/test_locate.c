@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/locate.h"
 #include "core/mesh.h"
 #include "tocher.h"
 
@@ -120,6 +121,7 @@ static tc_locator *tm_locator(const tmesh *tm) {
     tc_locator *L = NULL;
     int rc = tc_locator_new(&tm->m, &L);
     CHECK_MSG(rc == TC_OK && L, "tc_locator_new failed: %d", rc);
+    tc__locator_grid_now(L); /* tc_locate through the grid (test_points: the same as the tree) */
     return L;
 }
 

@@ -1,0 +1,164 @@
+/* points.c — scattered-point evaluation (issue 17 §3): where tc_eval_points spends its time
+ * and how it compares with the path it replaced, on the meshes bench/perf/meshes.py writes.
+ *
+ *     build/bench_points DIR NAME...     (DIR/NAME.json, DIR/points.f64; JSON on stdout)
+ *
+ * Per mesh: locator_new_s (the tree), grid_s (its grid of cells, built here at once; tc_eval_points
+ * builds it once enough points were asked for), then each figure the best of 5 runs over the 1e6
+ * points, one thread, in CPU time:
+ *   locate_tree_s   tc__locate_tree per point (the bounding-volume tree alone: the old tc_locate)
+ *   locate_s        tc_locate per point (the locator's grid of cells, then the tree's rule)
+ *   eval_known_s    tc_eval_triangle per point, the owners already known (evaluation alone)
+ *   ref_s, ref_grad_s       tc__eval_points_ref: the old batch path (tree, Z order, per-point frame)
+ *   points_s, points_grad_s tc_eval_points: the new batch path
+ *   points_2t_s     tc_eval_points_mt with 2 threads (values; wall time)
+ * and whether the new path's owners, values and gradients equal the old one's bit for bit. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/eval.h"
+#include "core/locate.h"
+#include "io/request.h"
+#include "tocher.h"
+
+#define NPTS 1000000
+#define REPS 5
+
+/* CPU time of this thread (what a busy shared machine disturbs least), or wall time
+ * for the multi-threaded figure. */
+static int wall;
+
+static double now_s(void) {
+    struct timespec ts;
+    clock_gettime(wall ? CLOCK_MONOTONIC : CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static char *slurp(const char *path, size_t *len) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) free(buf), buf = NULL;
+    fclose(f);
+    if (buf) buf[n] = 0, *len = (size_t)n;
+    return buf;
+}
+
+typedef struct {
+    const tc_recon *r;
+    const tc_locator *L;
+    const double *xy;
+    double *v, *g;
+    int32_t *tri;
+    int threads;
+} ctx;
+
+static volatile int32_t sink;
+
+static void run_locate_tree(const ctx *c) {
+    int32_t s = 0;
+    for (size_t i = 0; i < NPTS; i++) s += tc__locate_tree(c->L, c->xy[2 * i], c->xy[2 * i + 1]);
+    sink = s;
+}
+
+static void run_locate(const ctx *c) {
+    int32_t s = 0;
+    for (size_t i = 0; i < NPTS; i++) s += tc_locate(c->L, c->xy[2 * i], c->xy[2 * i + 1]);
+    sink = s;
+}
+
+static void run_known(const ctx *c) {
+    for (size_t i = 0; i < NPTS; i++)
+        if (c->tri[i] >= 0) tc_eval_triangle(c->r, c->tri[i], c->xy[2 * i], c->xy[2 * i + 1], c->v + i, NULL);
+}
+
+static void run_ref(const ctx *c) { tc__eval_points_ref(c->r, c->L, NPTS, c->xy, c->v, c->g, c->tri); }
+static void run_points(const ctx *c) { tc_eval_points(c->r, c->L, NPTS, c->xy, c->v, c->g, c->tri); }
+static void run_points_mt(const ctx *c) { tc_eval_points_mt(c->r, c->L, NPTS, c->xy, c->v, c->g, c->tri, c->threads); }
+
+static double best(void (*fn)(const ctx *), const ctx *c) {
+    double b = INFINITY;
+    for (int i = 0; i < REPS; i++) {
+        double t0 = now_s();
+        fn(c);
+        b = fmin(b, now_s() - t0);
+    }
+    return b;
+}
+
+static void bench_mesh(const char *dir, const char *name, const double *xy, int first) {
+    char path[1024];
+    size_t len;
+    snprintf(path, sizeof path, "%s/%s.json", dir, name);
+    char *json = slurp(path, &len);
+    tc_request *req = NULL;
+    tc_mesh *m = NULL;
+    tc_recon *r = NULL;
+    tc_locator *L = NULL;
+    if (!json || tc_request_parse(json, len, TC_REQ_MESH, &req, NULL) != TC_REQ_OK ||
+        tc_mesh_new(&req->desc, &m, NULL) != TC_OK || tc_recon_new(m, &req->opt, &r, NULL) != TC_OK) {
+        fprintf(stderr, "bench_points: %s does not build\n", path);
+        exit(1);
+    }
+    double t0 = now_s();
+    if (tc_locator_new(m, &L) != TC_OK) exit(1);
+    double t_loc = now_s() - t0;
+    t0 = now_s();
+    tc__locator_grid_now(L); /* what the first large batch would do */
+    double t_grid = now_s() - t0;
+    double *v0 = malloc(NPTS * sizeof *v0), *g0 = malloc(2 * NPTS * sizeof *g0);
+    double *v1 = malloc(NPTS * sizeof *v1), *g1 = malloc(2 * NPTS * sizeof *g1);
+    int32_t *t0i = malloc(NPTS * sizeof *t0i), *t1i = malloc(NPTS * sizeof *t1i);
+    ctx c0 = {r, L, xy, v0, NULL, t0i, 1}, c1 = {r, L, xy, v1, NULL, t1i, 1};
+    double f_tree = best(run_locate_tree, &c0), f_loc = best(run_locate, &c0);
+    double f_ref = best(run_ref, &c0), f_pts = best(run_points, &c1);
+    double f_known = best(run_known, &c0);
+    c1.threads = 2, wall = 1;
+    double f_mt = best(run_points_mt, &c1);
+    wall = 0;
+    c0.g = g0, c1.g = g1, c1.threads = 1;
+    double f_ref_g = best(run_ref, &c0), f_pts_g = best(run_points, &c1);
+    int same = memcmp(v0, v1, NPTS * sizeof *v0) == 0 && memcmp(g0, g1, 2 * NPTS * sizeof *g0) == 0 &&
+               memcmp(t0i, t1i, NPTS * sizeof *t0i) == 0;
+    c1.threads = 2;
+    run_points_mt(&c1);
+    same = same && memcmp(v0, v1, NPTS * sizeof *v0) == 0 && memcmp(g0, g1, 2 * NPTS * sizeof *g0) == 0;
+    printf("%s\n  \"%s\": {\"triangles\": %d, \"locator_new_s\": %.6g, \"grid_s\": %.6g, \"locate_tree_s\": %.6g, \"locate_s\": %.6g, "
+           "\"eval_known_s\": %.6g, \"ref_s\": %.6g, \"points_s\": %.6g, \"points_2t_s\": %.6g, "
+           "\"ref_grad_s\": %.6g, \"points_grad_s\": %.6g, \"identical\": %s}",
+           first ? "" : ",", name, (int)tc_mesh_triangle_count(m), t_loc, t_grid, f_tree, f_loc, f_known, f_ref, f_pts, f_mt,
+           f_ref_g, f_pts_g, same ? "true" : "false");
+    fflush(stdout);
+    free(v0), free(g0), free(v1), free(g1), free(t0i), free(t1i);
+    tc_locator_free(L);
+    tc_recon_free(r);
+    tc_mesh_free(m);
+    tc_request_free(req);
+    free(json);
+}
+
+int main(int argc, char **argv) {
+    if (argc < 3) {
+        fprintf(stderr, "usage: bench_points DIR NAME...\n");
+        return 2;
+    }
+    char path[1024];
+    size_t len;
+    snprintf(path, sizeof path, "%s/points.f64", argv[1]);
+    char *raw = slurp(path, &len);
+    if (!raw || len < NPTS * 2 * sizeof(double)) {
+        fprintf(stderr, "bench_points: %s: missing or short\n", path);
+        return 1;
+    }
+    printf("{\"points\": %d, \"meshes\": {", NPTS);
+    for (int i = 2; i < argc; i++) bench_mesh(argv[1], argv[i], (const double *)(const void *)raw, i == 2);
+    printf("\n}}\n");
+    free(raw);
+    return 0;
+}
