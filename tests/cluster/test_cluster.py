@@ -288,7 +288,11 @@ def run(cl, single, redis):
         if old[0] != 503 or time.time() - t0 > 15:
             break
         time.sleep(0.25)
-    say("   back after %.1f s" % (time.time() - t0))
+    # A POST goes round robin and nginx never retries one, so every replica must have
+    # reconnected (each in its own backoff; until then it answers 503 + Retry-After, as
+    # documented): wait for each one's /readyz, within the same 15 s.
+    ready = all(cl.wait_ready(p, max(0.5, 15 - (time.time() - t0))) for p in reps)
+    say("   back after %.1f s (every replica ready: %s)" % (time.time() - t0, ready))
     st, _, out = request(ng, "POST", "/v1/meshes", bodies[0], JSON_H)
     new = request(ng, "GET", "/v1/meshes/%s/tiles/3/7/4.raw?size=16" % ids[0])
     check("Redis back empty: an old id 404, a re-POST 201 and its tiles 200", (old[0], st, new[0]) == (404, 201, 200),

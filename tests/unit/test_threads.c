@@ -242,12 +242,12 @@ static void grow(const tmesh *g, tc_mesh_desc *d, const int32_t *tris, int ntris
     gr->val = malloc(((size_t)g->nv + (size_t)nxy) * (size_t)g->nc * sizeof *gr->val);
     gr->tri = malloc(((size_t)g->nt + (size_t)ntris) * 3 * sizeof *gr->tri);
     memcpy(gr->xy, g->xy, (size_t)g->nv * 2 * sizeof *gr->xy);
-    memcpy(gr->xy + 2 * g->nv, xy, (size_t)nxy * 2 * sizeof *gr->xy);
+    if (nxy) memcpy(gr->xy + 2 * g->nv, xy, (size_t)nxy * 2 * sizeof *gr->xy); /* xy may be NULL */
     memcpy(gr->val, g->values, (size_t)g->nv * (size_t)g->nc * sizeof *gr->val);
     for (size_t i = (size_t)g->nv * (size_t)g->nc; i < ((size_t)g->nv + (size_t)nxy) * (size_t)g->nc; i++)
         gr->val[i] = 0.5;
     memcpy(gr->tri, g->tri, (size_t)g->nt * 3 * sizeof *gr->tri);
-    memcpy(gr->tri + 3 * g->nt, tris, (size_t)ntris * 3 * sizeof *gr->tri);
+    if (ntris) memcpy(gr->tri + 3 * g->nt, tris, (size_t)ntris * 3 * sizeof *gr->tri);
     tmesh_desc(g, d);
     d->nverts = g->nv + nxy, d->xy = gr->xy, d->values = gr->val;
     d->ntris = g->nt + ntris, d->tris = gr->tri;
