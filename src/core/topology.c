@@ -1,6 +1,7 @@
 /* topology.c — who touches whom: vertex -> corner lists, edge adjacency, and
  * the continuity flags the front-end's polylines put on edges. Rejects meshes
  * that are not 2-manifold with consistent sides (repeats, 3-way edges, folds). */
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,19 +11,85 @@
 #include "core/mesh_build.h"
 #include "core/parallel.h"
 
-/* Corners of each vertex, in increasing triangle order (a counting sort). */
+/* Corners of each vertex, in increasing triangle order: a counting sort in
+ * parts. Each corner takes a count, then a place, by a fetch-and-add on its
+ * vertex's slot (plain loads and stores when there is one part); with more
+ * than one part the places within a vertex come in any order, so each
+ * vertex's list is sorted after: the lists are the same for any thread count. */
+typedef struct {
+    struct tc_mesh *m;
+    _Atomic int32_t *slot; /* [nv] the count of each vertex, then its next place */
+    int shared;            /* more than one part: the slots need atomic updates */
+} corner_pass;
+
+static int32_t take(_Atomic int32_t *x, int shared) {
+    if (shared) return atomic_fetch_add_explicit(x, 1, memory_order_relaxed);
+    int32_t v = atomic_load_explicit(x, memory_order_relaxed);
+    atomic_store_explicit(x, v + 1, memory_order_relaxed);
+    return v;
+}
+
+static void zero_slots_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    (void)part;
+    for (int32_t v = lo; v < hi; v++) atomic_init(&cp->slot[v], 0);
+}
+
+static void count_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) take(&cp->slot[cp->m->tri[c]], cp->shared);
+}
+
+static void place_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) cp->m->vcorner[take(&cp->slot[cp->m->tri[c]], cp->shared)] = c;
+}
+
+static int int32_cmp(const void *x, const void *y) {
+    int32_t p = *(const int32_t *)x, q = *(const int32_t *)y;
+    return (p > q) - (p < q);
+}
+
+static void sort_corners_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    const struct tc_mesh *m = cp->m;
+    (void)part;
+    for (int32_t v = lo; v < hi; v++) {
+        int32_t *c = m->vcorner + m->vstart[v], n = m->vstart[v + 1] - m->vstart[v];
+        if (n > 24) {
+            qsort(c, (size_t)n, sizeof *c, int32_cmp);
+            continue;
+        }
+        for (int32_t i = 1; i < n; i++) { /* few: insertion sort */
+            int32_t x = c[i], j = i;
+            for (; j > 0 && c[j - 1] > x; j--) c[j] = c[j - 1];
+            c[j] = x;
+        }
+    }
+}
+
 static int build_vertex_corners(struct tc_mesh *m) {
-    size_t nc = 3 * (size_t)m->nt;
-    m->vstart = tc__calloc((size_t)m->nv + 1, sizeof *m->vstart);
-    m->vcorner = tc__malloc(nc, sizeof *m->vcorner);
-    if (!m->vstart || !m->vcorner) return TC_ENOMEM;
-    for (size_t c = 0; c < nc; c++) m->vstart[m->tri[c] + 1]++;
-    for (int32_t v = 0; v < m->nv; v++) m->vstart[v + 1] += m->vstart[v];
-    int32_t *fill = tc__malloc((size_t)m->nv, sizeof *fill);
-    if (!fill) return TC_ENOMEM;
-    memcpy(fill, m->vstart, (size_t)m->nv * sizeof *fill);
-    for (size_t c = 0; c < nc; c++) m->vcorner[fill[m->tri[c]]++] = (int32_t)c;
-    free(fill);
+    int32_t nc = 3 * m->nt; /* below INT32_MAX: mesh.c's limits */
+    m->vstart = tc__malloc((size_t)m->nv + 1, sizeof *m->vstart);
+    m->vcorner = tc__malloc((size_t)nc, sizeof *m->vcorner);
+    corner_pass cp = {m, tc__malloc((size_t)m->nv, sizeof *cp.slot), tc__parallel_parts(m->threads, nc, 16384) > 1};
+    if (!m->vstart || !m->vcorner || !cp.slot) {
+        free(cp.slot);
+        return TC_ENOMEM;
+    }
+    tc__parallel_for(m->threads, m->nv, 16384, zero_slots_part, &cp);
+    tc__parallel_for(m->threads, nc, 16384, count_part, &cp);
+    m->vstart[0] = 0;
+    for (int32_t v = 0; v < m->nv; v++) { /* the counts become the first places */
+        int32_t n = atomic_load_explicit(&cp.slot[v], memory_order_relaxed);
+        atomic_store_explicit(&cp.slot[v], m->vstart[v], memory_order_relaxed);
+        m->vstart[v + 1] = m->vstart[v] + n;
+    }
+    tc__parallel_for(m->threads, nc, 16384, place_part, &cp);
+    if (cp.shared) tc__parallel_for(m->threads, m->nv, 4096, sort_corners_part, &cp);
+    free(cp.slot);
     return TC_OK;
 }
 
@@ -293,9 +360,16 @@ static int link_edges(struct tc_mesh *m, const edge_sides *es, tc_diags *dg) {
 }
 
 /* The fans; the serial check stops at the first vertex found bad. */
+static void unseen_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    int32_t *seen = ctx;
+    (void)part;
+    memset(seen + lo, 0, (size_t)(hi - lo) * sizeof *seen);
+}
+
 static int check_fans(struct tc_mesh *m, tc_diags *dg) {
-    int32_t *seen = tc__calloc(3 * (size_t)m->nt, sizeof *seen);
+    int32_t *seen = tc__malloc(3 * (size_t)m->nt, sizeof *seen); /* zeroed on the threads (first touch) */
     if (!seen) return TC_ENOMEM;
+    tc__parallel_for(m->threads, 3 * m->nt, 16384, unseen_part, seen);
     topo_pass tp = {m, NULL, seen, {0}};
     tc__parallel_for(m->threads, m->nv, 4096, fans_part, &tp);
     int32_t bad = first_bad(&tp, tc__parallel_parts(m->threads, m->nv, 4096));
@@ -312,7 +386,7 @@ static int check_fans(struct tc_mesh *m, tc_diags *dg) {
 static void unlinked_part(void *ctx, int32_t lo, int32_t hi, int part) {
     struct tc_mesh *m = ctx;
     (void)part;
-    for (int32_t c = lo; c < hi; c++) m->nbr[c] = -1;
+    for (int32_t c = lo; c < hi; c++) m->nbr[c] = -1, m->nbr_k[c] = 0;
 }
 
 static void flags_part(void *ctx, int32_t lo, int32_t hi, int part) {
@@ -326,7 +400,7 @@ int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     int rc = build_vertex_corners(m);
     if (rc != TC_OK) return rc;
     m->nbr = tc__malloc(nc, sizeof *m->nbr);
-    m->nbr_k = tc__calloc(nc, sizeof *m->nbr_k);
+    m->nbr_k = tc__malloc(nc, sizeof *m->nbr_k); /* nbr, nbr_k: set by unlinked_part */
     m->flag = tc__malloc(nc, sizeof *m->flag);
     if (!m->nbr || !m->nbr_k || !m->flag) return TC_ENOMEM;
     tc__parallel_for(m->threads, (int32_t)nc, 16384, unlinked_part, m);
