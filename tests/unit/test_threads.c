@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/mesh.h"
+#include "core/wedge.h"
 #include "meshgen.h"
 #include "props.h"
 #include "quadgen.h"
@@ -299,5 +301,66 @@ TEST(threads_errors_as_serial) {
     int32_t start[] = {0, 6};
     d.c0 = (tc_polylines){1, start, verts};
     CHECK(same_on_threads("polyline", &d, &o) == TC_EINVAL);
+    tmesh_free(&g);
+}
+
+/* The wedges of one set equal another's, field by field (not memcmp: padding). */
+static int same_wedges(const tc__wedge_set *a, const tc__wedge_set *b, int32_t ncorner, int32_t nv) {
+    if (a->nw != b->nw || a->ncoupled != b->ncoupled) return 0;
+    for (int32_t i = 0; i < a->nw; i++) {
+        const tc__wedge *x = &a->w[i], *y = &b->w[i];
+        if (x->v != y->v || x->first != y->first || x->count != y->count || x->collinear != y->collinear) return 0;
+        for (int s = 0; s < 2; s++)
+            if (x->side_edge[s] != y->side_edge[s] || x->side_kind[s] != y->side_kind[s] ||
+                x->across[s] != y->across[s] || memcmp(x->dir[s], y->dir[s], sizeof x->dir[s]))
+                return 0;
+    }
+    return !memcmp(a->corners, b->corners, (size_t)ncorner * sizeof *a->corners) &&
+           !memcmp(a->of_corner, b->of_corner, (size_t)ncorner * sizeof *a->of_corner) &&
+           !memcmp(a->vclass, b->vclass, (size_t)nv * sizeof *a->vclass);
+}
+
+/* What the threads build inside: the vertex -> corner lists (each corner takes its
+ * place by an atomic add, in any order, then each list is sorted), the adjacency, the
+ * corner values, and the wedge sets (each part's wedges copied into one array), on
+ * a mesh where every one of those loops is split in parts. */
+TEST(threads_mesh_internals_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 23);
+    tmesh g;
+    big_mesh(&g, &r);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    d.threads = 1;
+    tc_mesh *s = NULL;
+    CHECK(tc_mesh_new(&d, &s, NULL) == TC_OK);
+    int32_t nc = 3 * s->nt;
+    static const int threads[] = {2, 3, 8};
+    static const int honor[] = {TC_HONOR_NONE, TC_HONOR_ALL, TC_HONOR_CM1};
+    for (size_t i = 0; s && i < sizeof threads / sizeof threads[0]; i++) {
+        tc_mesh *m = NULL;
+        d.threads = threads[i];
+        CHECK(tc_mesh_new(&d, &m, NULL) == TC_OK);
+        if (!m) continue;
+        CHECK_MSG(!memcmp(m->vstart, s->vstart, ((size_t)s->nv + 1) * sizeof *s->vstart) &&
+                      !memcmp(m->vcorner, s->vcorner, (size_t)nc * sizeof *s->vcorner),
+                  "%d threads: the vertex corner lists differ", threads[i]);
+        CHECK_MSG(!memcmp(m->nbr, s->nbr, (size_t)nc * sizeof *s->nbr) &&
+                      !memcmp(m->nbr_k, s->nbr_k, (size_t)nc * sizeof *s->nbr_k) &&
+                      !memcmp(m->flag, s->flag, (size_t)nc * sizeof *s->flag),
+                  "%d threads: the adjacency differs", threads[i]);
+        CHECK_MSG(!memcmp(m->cz, s->cz, (size_t)nc * (size_t)s->nc * sizeof *s->cz),
+                  "%d threads: the corner values differ", threads[i]);
+        for (size_t h = 0; h < sizeof honor / sizeof honor[0]; h++) {
+            tc__wedge_set ws1, wsn;
+            CHECK(tc__wedges_build_on(s, honor[h], 1, &ws1) == TC_OK);
+            CHECK(tc__wedges_build_on(m, honor[h], threads[i], &wsn) == TC_OK);
+            CHECK_MSG(same_wedges(&ws1, &wsn, nc, s->nv), "%d threads, honour %d: the wedges differ", threads[i],
+                      honor[h]);
+            tc__wedges_free(&ws1), tc__wedges_free(&wsn);
+        }
+        tc_mesh_free(m);
+    }
+    tc_mesh_free(s);
     tmesh_free(&g);
 }
