@@ -360,16 +360,10 @@ static int link_edges(struct tc_mesh *m, const edge_sides *es, tc_diags *dg) {
 }
 
 /* The fans; the serial check stops at the first vertex found bad. */
-static void unseen_part(void *ctx, int32_t lo, int32_t hi, int part) {
-    int32_t *seen = ctx;
-    (void)part;
-    memset(seen + lo, 0, (size_t)(hi - lo) * sizeof *seen);
-}
-
 static int check_fans(struct tc_mesh *m, tc_diags *dg) {
     int32_t *seen = tc__malloc(3 * (size_t)m->nt, sizeof *seen); /* zeroed on the threads (first touch) */
     if (!seen) return TC_ENOMEM;
-    tc__parallel_for(m->threads, 3 * m->nt, 16384, unseen_part, seen);
+    tc__parallel_zero(m->threads, seen, 3 * (size_t)m->nt * sizeof *seen);
     topo_pass tp = {m, NULL, seen, {0}};
     tc__parallel_for(m->threads, m->nv, 4096, fans_part, &tp);
     int32_t bad = first_bad(&tp, tc__parallel_parts(m->threads, m->nv, 4096));

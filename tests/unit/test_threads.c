@@ -229,6 +229,19 @@ TEST(threads_data_errors_as_serial) {
     o.range = TC_RANGE_FREE;
     CHECK(same_on_threads("overflow", &d, &o) == TC_OK); /* the mesh is fine: the build fails */
     free(grads);
+    size_t vsz = (size_t)g.nv * (size_t)g.nc, xsz = (size_t)g.nv * 2; /* values and vertices that are no numbers */
+    double *vals = malloc(vsz * sizeof *vals), *xy = malloc(xsz * sizeof *xy);
+    memcpy(vals, g.values, vsz * sizeof *vals);
+    vals[(size_t)late * 2 + 1] = NAN, vals[(size_t)early * 2] = -INFINITY;
+    tmesh_desc(&g, &d);
+    d.values = vals;
+    CHECK(same_on_threads("values not finite", &d, &o) == TC_EINVAL);
+    memcpy(xy, g.xy, xsz * sizeof *xy);
+    xy[(size_t)late * 2] = INFINITY, xy[(size_t)early * 2 + 1] = NAN;
+    tmesh_desc(&g, &d);
+    d.xy = xy;
+    CHECK(same_on_threads("vertices not finite", &d, &o) == TC_EINVAL);
+    free(vals), free(xy);
     tmesh_free(&g);
 }
 
