@@ -115,6 +115,9 @@ TEST(threads_build_bit_identical) {
     CHECK(same_on_threads("clough-tocher, range free", &d, &o) == TC_OK);
     o.cross_boundary = TC_CROSS_SALESIN, o.wedges = TC_WEDGES_LITERAL, o.average = TC_AVERAGE_NORMALS;
     CHECK(same_on_threads("salesin literal", &d, &o) == TC_OK);
+    tc_options_default(&o);
+    o.wedges = TC_WEDGES_LITERAL; /* the C0 wedges' planes by Figure 6's Project, in parts */
+    CHECK(same_on_threads("wedges literal", &d, &o) == TC_OK);
     for (int mt = 0; mt < tc_method_count(); mt++) {
         if (tc_method_quads_only((tc_method)mt)) continue;
         tc_options_default(&o);
@@ -376,4 +379,59 @@ TEST(threads_mesh_internals_bit_identical) {
     }
     tc_mesh_free(s);
     tmesh_free(&g);
+}
+
+/* Figure 6's literal Project amplifying the gradient (test_wedges.c's star: C0 on one
+ * side of its vertex, C-1 on the other, steep given planes) at 3000 disjoint copies of
+ * the star, each with its planes scaled differently (by lo .. hi): the
+ * amplification warning (count, first vertices, worst) merged from the parts of the C0
+ * wedges' planes is the serial one; with a wider range some star is singular, and the
+ * error is the serial one (the first such vertex). Returns the finding it checked. */
+static int literal_stars(double lo, double hi, const char *want) {
+    static const double xy[10] = {0, 0, 1, 0, -1, 0, 0, 1, 0, -1};
+    static const double cg[24] = {10.920623257253608, -15.971620080979365, 3.1670205030436716, -1.5876232001872848,
+                                  -8.5570255613685688, -14.675991979742417, 14.554001090374777, -4.0375080816622404,
+                                  1.3454544271088453,  3.9829071909109626,  -1.0125139639771152, 12.748638052841947,
+                                  -14.818304513962151, 5.8202596874070611,  16.759694869052474, 1.8499370021046779,
+                                  2.0653158901563451,  10.486855930875457,  7.6292296813937055, -12.452525772365055,
+                                  -9.6824571255978462, -2.0391880637217263, 12.636214454023268, 2.0197554780262328};
+    static const int32_t tri[12] = {0, 1, 3, 0, 3, 2, 0, 2, 4, 0, 4, 1};
+    enum { N = 3000 };
+    double *pxy = malloc(N * 10 * sizeof *pxy), *z = malloc(N * 5 * sizeof *z), *pcg = malloc(N * 24 * sizeof *pcg);
+    int32_t *ptri = malloc(N * 12 * sizeof *ptri), *cgt = malloc(N * 4 * sizeof *cgt);
+    int32_t *c0s = malloc((N + 1) * sizeof *c0s), *c0v = malloc(N * 2 * sizeof *c0v);
+    int32_t *cms = malloc((N + 1) * sizeof *cms), *cmv = malloc(N * 2 * sizeof *cmv);
+    for (int i = 0; i < N; i++) {
+        for (int j = 0; j < 5; j++) {
+            pxy[10 * i + 2 * j] = xy[2 * j] + 3.0 * (i % 60), pxy[10 * i + 2 * j + 1] = xy[2 * j + 1] + 3.0 * (i / 60);
+            z[5 * i + j] = 0.1 * j + 0.01 * (i % 13);
+        }
+        for (int j = 0; j < 12; j++) ptri[12 * i + j] = 5 * i + tri[j];
+        for (int j = 0; j < 24; j++) pcg[24 * i + j] = cg[j] * (lo + (hi - lo) * ((i * 37) % 101) / 100.0);
+        for (int j = 0; j < 4; j++) cgt[4 * i + j] = 4 * i + j;
+        c0s[i] = cms[i] = 2 * i;
+        c0v[2 * i] = 5 * i, c0v[2 * i + 1] = 5 * i + 1, cmv[2 * i] = 5 * i + 2, cmv[2 * i + 1] = 5 * i;
+    }
+    c0s[N] = cms[N] = 2 * N;
+    tc_mesh_desc d;
+    tc_mesh_desc_init(&d);
+    d.nverts = 5 * N, d.xy = pxy, d.ntris = 4 * N, d.tris = ptri, d.nchan = 1, d.values = z;
+    d.ncorner_gradients = 4 * N, d.corner_gradients_tri = cgt, d.corner_gradients = pcg;
+    d.c0 = (tc_polylines){N, c0s, c0v}, d.cm1 = (tc_polylines){N, cms, cmv};
+    tc_options o;
+    tc_options_default(&o);
+    o.tangents = TC_TANGENTS_GIVEN, o.wedges = TC_WEDGES_LITERAL, o.range = TC_RANGE_FREE;
+    CHECK(same_on_threads(want, &d, &o) == TC_OK);
+    outcome s; /* the case is what it means */
+    run(&d, &o, 1, &s);
+    int found = 0;
+    for (int j = 0; j < s.dg.count; j++) found |= strstr(s.dg.items[j].message, want) != NULL;
+    outcome_free(&s);
+    free(pxy), free(z), free(pcg), free(ptri), free(cgt), free(c0s), free(c0v), free(cms), free(cmv);
+    return found;
+}
+
+TEST(threads_literal_project_as_serial) {
+    CHECK_MSG(literal_stars(0.98, 1.02, "wedge planes (literal Project) amplify"), "no amplification warning");
+    CHECK_MSG(literal_stars(0.2, 1.1, "Project is singular at vertex"), "no singular Project");
 }
