@@ -432,13 +432,14 @@ typedef struct {
     tc_continuity *src_kind;
 } flag_ctx;
 
-static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j, int32_t p, int32_t q,
+/* c: the edge side from p to q (tc__find_edge), or -1. */
+static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j, int32_t p, int32_t q, int32_t c,
                         tc_diags *dg) {
     char path[64]; /* formatted only for a finding: a clean segment costs an edge look-up */
 #define SEGMENT_PATH() snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)line, (int)j)
     if (p == q && SEGMENT_PATH() > 0)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] repeats a vertex", (int)p, (int)q);
-    int32_t c = tc__find_edge(m, p, q), dropped = c < 0 ? tc__dropped_with_edge(m, fc->d, p, q) : -1;
+    int32_t dropped = c < 0 ? tc__dropped_with_edge(m, fc->d, p, q) : -1;
     if (c < 0 || tc__is_diagonal(m, c) || (fc->src[c] >= 0 && fc->src_kind[c] != fc->kind)) SEGMENT_PATH();
 #undef SEGMENT_PATH
     if (dropped >= 0) /* nothing left to flag: the edge went with the triangle */
@@ -467,9 +468,37 @@ static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j
     return TC_OK;
 }
 
+/* The edge look-ups of a set of polylines, on the threads (they read the
+ * topology only, never the flags): edge[j] for the segment from verts[j - 1]
+ * to verts[j], for every j in (first, n) (a pair that spans two polylines is
+ * looked up for nothing), or -2 where a vertex is out of range or repeated
+ * (the serial pass reports those). Only for polylines laid end to end
+ * (start[] nondecreasing): then verts[first .. n) is what the pass reads. */
+typedef struct {
+    const struct tc_mesh *m;
+    const int32_t *verts;
+    int32_t first;
+    int32_t *edge; /* [n], or NULL: looked up in the serial pass */
+} edge_lookup;
+
+static void lookup_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const edge_lookup *el = ctx;
+    int32_t nv = el->m->nv;
+    (void)part;
+    for (int32_t j = lo > el->first ? lo : el->first + 1; j < hi; j++) {
+        int32_t p = el->verts[j - 1], q = el->verts[j];
+        el->edge[j] = p < 0 || p >= nv || q < 0 || q >= nv || p == q ? -2 : tc__find_edge(el->m, p, q);
+    }
+}
+
 static int flag_polylines(struct tc_mesh *m, const tc_polylines *pl, flag_ctx *fc, tc_diags *dg) {
     int rc = TC_OK;
     char path[64];
+    int end_to_end = pl->count > 0 && pl->start[0] >= 0;
+    for (int32_t i = 0; end_to_end && i < pl->count; i++) end_to_end = pl->start[i] <= pl->start[i + 1];
+    int32_t n = end_to_end ? pl->start[pl->count] : 0;
+    edge_lookup el = {m, pl->verts, end_to_end ? pl->start[0] : 0, n > 1 ? tc__malloc((size_t)n, sizeof *el.edge) : NULL};
+    if (el.edge) tc__parallel_for(m->threads, n, 1024, lookup_part, &el); /* else looked up below */
     for (int32_t i = 0; i < pl->count; i++) {
         int32_t s = pl->start[i], e = pl->start[i + 1];
         snprintf(path, sizeof path, "discontinuities.%s[%d]", fc->name, (int)i);
@@ -485,10 +514,20 @@ static int flag_polylines(struct tc_mesh *m, const tc_polylines *pl, flag_ctx *f
                                   (int)m->nv);
                 break;
             }
-            if (j > s && flag_segment(m, fc, i, j - 1 - s, pl->verts[j - 1], v, dg) != TC_OK) rc = TC_EINVAL;
+            if (j == s) continue;
+            int32_t p = pl->verts[j - 1];
+            int32_t c = el.edge && el.edge[j] != -2 ? el.edge[j] : p == v ? -1 : tc__find_edge(m, p, v);
+            if (flag_segment(m, fc, i, j - 1 - s, p, v, c, dg) != TC_OK) rc = TC_EINVAL;
         }
     }
+    free(el.edge);
     return rc;
+}
+
+static void unflagged_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    int32_t *src = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) src[c] = -1;
 }
 
 int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
@@ -500,7 +539,7 @@ int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     fc.src_kind = tc__malloc(nc, sizeof *fc.src_kind);
     int rc = TC_ENOMEM;
     if (fc.src && fc.src_kind) {
-        for (size_t c = 0; c < nc; c++) fc.src[c] = -1;
+        tc__parallel_for(m->threads, (int32_t)nc, 16384, unflagged_part, fc.src);
         fc.name = "c0";
         fc.kind = TC_C0;
         rc = flag_polylines(m, &d->c0, &fc, dg);

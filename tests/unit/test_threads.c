@@ -435,3 +435,33 @@ TEST(threads_literal_project_as_serial) {
     CHECK_MSG(literal_stars(0.98, 1.02, "wedge planes (literal Project) amplify"), "no amplification warning");
     CHECK_MSG(literal_stars(0.2, 1.1, "Project is singular at vertex"), "no singular Project");
 }
+
+/* Snakes over the grid's rows (C0 over rows 0..63, C-1 over rows 66..130, 8000 and more
+ * segments each): their edge look-ups run in parts; the flags, and the errors of
+ * segments that are no edges or repeat a vertex, early and late, as serially. */
+static int32_t snake(int32_t *v, int row0, int row1) {
+    int32_t n = 0;
+    for (int row = row0; row <= row1; row++)
+        for (int k = 0; k <= 130; k++) v[n++] = tmesh_gv(130, (row - row0) % 2 ? 130 - k : k, row);
+    return n;
+}
+
+TEST(threads_long_polylines_as_serial) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 24);
+    tmesh g;
+    tmesh_grid(&g, 130, 130, 0.2, -1, &r);
+    tmesh_sample(&g, 1, smooth_f, NULL, 1, 0, 0);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    tc_options o;
+    tc_options_default(&o);
+    int32_t *c0v = malloc(131 * 131 * sizeof *c0v), *cmv = malloc(131 * 131 * sizeof *cmv), c0s[2], cms[2];
+    c0s[0] = cms[0] = 0, c0s[1] = snake(c0v, 0, 63), cms[1] = snake(cmv, 66, 130);
+    d.c0 = (tc_polylines){1, c0s, c0v}, d.cm1 = (tc_polylines){1, cms, cmv};
+    CHECK(same_on_threads("long polylines", &d, &o) == TC_OK);
+    c0v[c0s[1] - 3] = tmesh_gv(130, 65, 100), c0v[5] = c0v[4];
+    CHECK(same_on_threads("long polylines, bad segments", &d, &o) == TC_EINVAL);
+    free(c0v), free(cmv);
+    tmesh_free(&g);
+}
