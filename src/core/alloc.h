@@ -4,11 +4,15 @@
 #ifndef TC_CORE_ALLOC_H
 #define TC_CORE_ALLOC_H
 
+#include <stdint.h>
 #include <stdlib.h>
 
 /* From this size on an array is allocated to be backed by huge pages
- * (alloc.c): tc__malloc_huge / tc__calloc_huge, free()d as any other. */
+ * (alloc.c): tc__malloc_huge / tc__calloc_huge, free()d as any other. A
+ * build can move it (-DTC__HUGE_MIN=SIZE_MAX: never) to compare. */
+#ifndef TC__HUGE_MIN
 #define TC__HUGE_MIN ((size_t)4 << 20)
+#endif
 void *tc__malloc_huge(size_t bytes);
 void *tc__calloc_huge(size_t bytes);
 
