@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "core/mesh_build.h"
+#include "core/parallel.h"
 
 /* A tolerance below this is rounding of the front-end's own arithmetic (and
  * what a zero-filled description gets: the strict check of old). */
@@ -23,15 +24,36 @@ typedef struct {
 } agree;
 
 /* The channel's scale: the largest |value| of it over the mesh's corner
- * values and midpoint samples. */
-static void channel_scales(agree *a) {
-    const struct tc_mesh *m = a->m;
-    for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = 0;
-    for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
+ * values and midpoint samples; found in parts (a maximum: the same for any
+ * split). */
+typedef struct {
+    const struct tc_mesh *m;
+    double scale[TC_PARALLEL_MAX][TC_MAX_CHANNELS];
+} scale_pass;
+
+static void scales_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    scale_pass *sp = ctx;
+    const struct tc_mesh *m = sp->m;
+    double *scale = sp->scale[part];
+    for (int ch = 0; ch < m->nc; ch++) scale[ch] = 0;
+    for (size_t c = (size_t)lo; c < (size_t)hi; c++)
         for (int ch = 0; ch < m->nc; ch++) {
-            a->scale[ch] = fmax(a->scale[ch], fabs(m->cz[c * (size_t)m->nc + (size_t)ch]));
-            if (m->mid_has && m->mid_has[c]) a->scale[ch] = fmax(a->scale[ch], fabs(m->mid[c * (size_t)m->nc + (size_t)ch]));
+            scale[ch] = fmax(scale[ch], fabs(m->cz[c * (size_t)m->nc + (size_t)ch]));
+            if (m->mid_has && m->mid_has[c]) scale[ch] = fmax(scale[ch], fabs(m->mid[c * (size_t)m->nc + (size_t)ch]));
         }
+}
+
+static int channel_scales(agree *a) {
+    const struct tc_mesh *m = a->m;
+    scale_pass *sp = malloc(sizeof *sp); /* 8 KiB: off the stack */
+    if (!sp) return TC_ENOMEM;
+    sp->m = m;
+    tc__parallel_for(m->threads, 3 * m->nt, 16384, scales_part, sp);
+    for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = 0;
+    for (int p = 0; p < tc__parallel_parts(m->threads, 3 * m->nt, 16384); p++)
+        for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = fmax(a->scale[ch], sp->scale[p][ch]);
+    free(sp);
+    return TC_OK;
 }
 
 static double relative(const agree *a, int ch, double diff) { return a->scale[ch] > 0 ? diff / a->scale[ch] : 0; }
@@ -200,8 +222,8 @@ static void warn_averaged(const agree *a, tc_diags *dg) {
 int tc__values_agree(struct tc_mesh *m, double tolerance, const int32_t *cv_src, const int32_t *mid_src,
                      tc_diags *dg) {
     agree a = {m, cv_src, mid_src, fmax(tolerance, TOL_FLOOR), {0}, 0, 0, 0, 0, -1, -1};
-    channel_scales(&a);
-    int rc = TC_OK;
+    int rc = channel_scales(&a);
+    if (rc != TC_OK) return rc;
     if (m->ncorner_overrides) { /* else every corner holds its vertex's value */
         rc = check_edges(&a, dg);
         if (rc == TC_OK) rc = average_corners(&a);

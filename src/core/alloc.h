@@ -4,16 +4,30 @@
 #ifndef TC_CORE_ALLOC_H
 #define TC_CORE_ALLOC_H
 
+#include <stdint.h>
 #include <stdlib.h>
 
-/* n zeroed elements of size sz (calloc checks n * sz itself). */
+/* From this size on an array is allocated to be backed by huge pages
+ * (alloc.c): tc__malloc_huge / tc__calloc_huge, free()d as any other. A
+ * build can move it (-DTC__HUGE_MIN=SIZE_MAX: never) to compare. */
+#ifndef TC__HUGE_MIN
+#define TC__HUGE_MIN ((size_t)4 << 20)
+#endif
+void *tc__malloc_huge(size_t bytes);
+void *tc__calloc_huge(size_t bytes);
+
+/* n zeroed elements of size sz; NULL when n * sz overflows. */
 static inline void *tc__calloc(size_t n, size_t sz) {
+    if (sz && n > (size_t)-1 / sz) return NULL;
+    if (n * sz >= TC__HUGE_MIN) return tc__calloc_huge(n * sz);
     return n ? calloc(n, sz) : calloc(1, 1);
 }
+
 /* n elements of size sz, uninitialized; NULL when n * sz overflows. */
 static inline void *tc__malloc(size_t n, size_t sz) {
     if (sz && n > (size_t)-1 / sz) return NULL;
     size_t bytes = n * sz;
+    if (bytes >= TC__HUGE_MIN) return tc__malloc_huge(bytes);
     return malloc(bytes ? bytes : 1);
 }
 

@@ -61,8 +61,40 @@ static int check_sizes(const tc_mesh_desc *d, tc_diags *dg) {
     return rc;
 }
 
+typedef struct {
+    const double *x;
+    size_t n;
+    int bad[TC_PARALLEL_MAX];
+} finite_pass;
+
+enum { FINITE_BLOCK = 4096 }; /* numbers per index of the loop */
+
+static void finite_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    finite_pass *fp = ctx;
+    size_t from = (size_t)lo * FINITE_BLOCK, to = (size_t)hi * FINITE_BLOCK;
+    int bad = 0;
+    if (to > fp->n) to = fp->n;
+    for (size_t i = from; i < to; i++) bad |= !isfinite(fp->x[i]);
+    fp->bad[part] = bad;
+}
+
+int tc__all_finite_on(int threads, const double *x, size_t n) {
+    size_t blocks = (n + FINITE_BLOCK - 1) / FINITE_BLOCK;
+    if (blocks <= 1 || blocks > INT32_MAX || threads <= 1) { /* beyond INT32_MAX blocks: beyond any mesh */
+        for (size_t i = 0; i < n; i++)
+            if (!isfinite(x[i])) return 0;
+        return 1;
+    }
+    finite_pass fp = {x, n, {0}};
+    tc__parallel_for(threads, (int32_t)blocks, 16, finite_part, &fp);
+    for (int p = 0; p < tc__parallel_parts(threads, (int32_t)blocks, 16); p++)
+        if (fp.bad[p]) return 0;
+    return 1;
+}
+
 static int check_finite_xy(const tc_mesh_desc *d, tc_diags *dg) {
     int rc = TC_OK;
+    if (tc__all_finite_on(d->threads, d->xy, 2 * (size_t)d->nverts)) return TC_OK;
     for (int32_t i = 0; i < d->nverts; i++)
         for (int j = 0; j < 2; j++)
             if (!isfinite(d->xy[2 * (size_t)i + (size_t)j])) {

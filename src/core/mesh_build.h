@@ -19,6 +19,10 @@ int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *desc, tc_diags *d);
 int32_t tc__dropped_with_edge(const struct tc_mesh *m, const tc_mesh_desc *d, int32_t a, int32_t b);
 
 /* samples.c: corner values, given tangent planes and midpoint samples. */
+/* 1 if x[0 .. n) are all finite, checked in parts on `threads` threads (the
+ * findings, if not, are made by the caller's serial loop, in order). */
+int tc__all_finite_on(int threads, const double *x, size_t n);
+
 int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *desc, tc_diags *d);
 
 /* agree.c: corner values joined across C0/C1 edges at a vertex must agree within

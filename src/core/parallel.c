@@ -126,16 +126,26 @@ static void copy_part(void *ctx, int32_t lo, int32_t hi, int part) {
     size_t from = (size_t)lo * COPY_BLOCK, to = (size_t)hi * COPY_BLOCK;
     (void)part;
     if (to > cj->bytes) to = cj->bytes;
-    memcpy(cj->dst + from, cj->src + from, to - from);
+    if (cj->src) memcpy(cj->dst + from, cj->src + from, to - from);
+    else memset(cj->dst + from, 0, to - from);
 }
 
-void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes) {
+/* memcpy, or memset to 0 without src. */
+static void copy_or_zero(int threads, void *dst, const void *src, size_t bytes) {
     size_t blocks = (bytes + COPY_BLOCK - 1) / COPY_BLOCK;
     copy_job cj = {dst, src, bytes};
-    if (blocks > INT32_MAX) threads = 1, blocks = 1, cj.bytes = bytes; /* beyond any mesh: one memcpy */
-    if (blocks <= 1 || threads <= 1) {
-        memcpy(dst, src, bytes);
+    if (blocks <= 1 || blocks > INT32_MAX || threads <= 1) { /* beyond INT32_MAX blocks: beyond any mesh */
+        if (src) memcpy(dst, src, bytes);
+        else memset(dst, 0, bytes);
         return;
     }
     tc__parallel_for(threads, (int32_t)blocks, 16, copy_part, &cj);
+}
+
+void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes) {
+    copy_or_zero(threads, dst, src, bytes);
+}
+
+void tc__parallel_zero(int threads, void *dst, size_t bytes) {
+    copy_or_zero(threads, dst, NULL, bytes);
 }

@@ -30,4 +30,9 @@ void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, 
 /* memcpy(dst, src, bytes) in parts (a large copy runs at more than one core's bandwidth). */
 void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes);
 
+/* memset(dst, 0, bytes) in parts: a fresh array zeroed this way has its pages
+ * faulted in by several threads (calloc's clearing of a reused block, or the
+ * first writes to a fresh one, fault them in on one). */
+void tc__parallel_zero(int threads, void *dst, size_t bytes);
+
 #endif

@@ -105,7 +105,8 @@ static void values_part(void *ctx, int32_t lo, int32_t hi, int part) {
 static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
     int nc = m->nc, rc = TC_OK, nk = elem_corners(m);
     char path[64];
-    for (int32_t v = 0; v < m->nv; v++) {
+    int finite = tc__all_finite_on(m->threads, d->values, (size_t)m->nv * (size_t)nc); /* else the findings: */
+    for (int32_t v = 0; !finite && v < m->nv; v++) {
         if (all_finite(d->values + (size_t)v * (size_t)nc, (size_t)nc)) continue;
         snprintf(path, sizeof path, "values[%d]", (int)v);
         if (check_finite(d->values + (size_t)v * (size_t)nc, (size_t)nc, path, dg) != TC_OK) rc = TC_EINVAL;
@@ -146,9 +147,13 @@ static int corner_values(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, t
 
 static int alloc_gradients(struct tc_mesh *m) {
     if (m->given_grad) return TC_OK;
-    m->given_grad = tc__calloc(3 * (size_t)m->nt * (size_t)m->nc * 2, sizeof *m->given_grad);
-    m->given_grad_has = tc__calloc(3 * (size_t)m->nt, sizeof *m->given_grad_has);
-    return m->given_grad && m->given_grad_has ? TC_OK : TC_ENOMEM;
+    size_t n = 3 * (size_t)m->nt * (size_t)m->nc * 2; /* zeroed on the threads: the pages fault in there */
+    m->given_grad = tc__malloc(n, sizeof *m->given_grad);
+    m->given_grad_has = tc__malloc(3 * (size_t)m->nt, sizeof *m->given_grad_has);
+    if (!m->given_grad || !m->given_grad_has) return TC_ENOMEM;
+    tc__parallel_zero(m->threads, m->given_grad, n * sizeof *m->given_grad);
+    tc__parallel_zero(m->threads, m->given_grad_has, 3 * (size_t)m->nt * sizeof *m->given_grad_has);
+    return TC_OK;
 }
 
 /* Converts a vertex's normals (one per channel) to gradients, g = -(nx, ny)/nz. */
@@ -357,10 +362,12 @@ static int midpoint(struct tc_mesh *m, const tc_mesh_desc *d, int32_t i, int32_t
 static int midpoints(struct tc_mesh *m, const tc_mesh_desc *d, scratch *s, tc_diags *dg) {
     if (d->nmidpoints == 0) return TC_OK;
     size_t nc = 3 * (size_t)m->nt;
-    m->mid = tc__calloc(nc * (size_t)m->nc, sizeof *m->mid);
-    m->mid_has = tc__calloc(nc, sizeof *m->mid_has);
+    m->mid = tc__malloc(nc * (size_t)m->nc, sizeof *m->mid);
+    m->mid_has = tc__malloc(nc, sizeof *m->mid_has);
     int32_t *src = s->mid_src = tc__malloc(nc, sizeof *src);
     if (!m->mid || !m->mid_has || !src) return TC_ENOMEM;
+    tc__parallel_zero(m->threads, m->mid, nc * (size_t)m->nc * sizeof *m->mid);
+    tc__parallel_zero(m->threads, m->mid_has, nc * sizeof *m->mid_has);
     int rc = TC_OK;
     for (size_t c = 0; c < nc; c++) src[c] = -1;
     for (int32_t i = 0; i < d->nmidpoints; i++)

@@ -1,6 +1,7 @@
 /* topology.c — who touches whom: vertex -> corner lists, edge adjacency, and
  * the continuity flags the front-end's polylines put on edges. Rejects meshes
  * that are not 2-manifold with consistent sides (repeats, 3-way edges, folds). */
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,19 +11,85 @@
 #include "core/mesh_build.h"
 #include "core/parallel.h"
 
-/* Corners of each vertex, in increasing triangle order (a counting sort). */
+/* Corners of each vertex, in increasing triangle order: a counting sort in
+ * parts. Each corner takes a count, then a place, by a fetch-and-add on its
+ * vertex's slot (plain loads and stores when there is one part); with more
+ * than one part the places within a vertex come in any order, so each
+ * vertex's list is sorted after: the lists are the same for any thread count. */
+typedef struct {
+    struct tc_mesh *m;
+    _Atomic int32_t *slot; /* [nv] the count of each vertex, then its next place */
+    int shared;            /* more than one part: the slots need atomic updates */
+} corner_pass;
+
+static int32_t take(_Atomic int32_t *x, int shared) {
+    if (shared) return atomic_fetch_add_explicit(x, 1, memory_order_relaxed);
+    int32_t v = atomic_load_explicit(x, memory_order_relaxed);
+    atomic_store_explicit(x, v + 1, memory_order_relaxed);
+    return v;
+}
+
+static void zero_slots_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    (void)part;
+    for (int32_t v = lo; v < hi; v++) atomic_init(&cp->slot[v], 0);
+}
+
+static void count_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) take(&cp->slot[cp->m->tri[c]], cp->shared);
+}
+
+static void place_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) cp->m->vcorner[take(&cp->slot[cp->m->tri[c]], cp->shared)] = c;
+}
+
+static int int32_cmp(const void *x, const void *y) {
+    int32_t p = *(const int32_t *)x, q = *(const int32_t *)y;
+    return (p > q) - (p < q);
+}
+
+static void sort_corners_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    const struct tc_mesh *m = cp->m;
+    (void)part;
+    for (int32_t v = lo; v < hi; v++) {
+        int32_t *c = m->vcorner + m->vstart[v], n = m->vstart[v + 1] - m->vstart[v];
+        if (n > 24) {
+            qsort(c, (size_t)n, sizeof *c, int32_cmp);
+            continue;
+        }
+        for (int32_t i = 1; i < n; i++) { /* few: insertion sort */
+            int32_t x = c[i], j = i;
+            for (; j > 0 && c[j - 1] > x; j--) c[j] = c[j - 1];
+            c[j] = x;
+        }
+    }
+}
+
 static int build_vertex_corners(struct tc_mesh *m) {
-    size_t nc = 3 * (size_t)m->nt;
-    m->vstart = tc__calloc((size_t)m->nv + 1, sizeof *m->vstart);
-    m->vcorner = tc__malloc(nc, sizeof *m->vcorner);
-    if (!m->vstart || !m->vcorner) return TC_ENOMEM;
-    for (size_t c = 0; c < nc; c++) m->vstart[m->tri[c] + 1]++;
-    for (int32_t v = 0; v < m->nv; v++) m->vstart[v + 1] += m->vstart[v];
-    int32_t *fill = tc__malloc((size_t)m->nv, sizeof *fill);
-    if (!fill) return TC_ENOMEM;
-    memcpy(fill, m->vstart, (size_t)m->nv * sizeof *fill);
-    for (size_t c = 0; c < nc; c++) m->vcorner[fill[m->tri[c]]++] = (int32_t)c;
-    free(fill);
+    int32_t nc = 3 * m->nt; /* below INT32_MAX: mesh.c's limits */
+    m->vstart = tc__malloc((size_t)m->nv + 1, sizeof *m->vstart);
+    m->vcorner = tc__malloc((size_t)nc, sizeof *m->vcorner);
+    corner_pass cp = {m, tc__malloc((size_t)m->nv, sizeof *cp.slot), tc__parallel_parts(m->threads, nc, 16384) > 1};
+    if (!m->vstart || !m->vcorner || !cp.slot) {
+        free(cp.slot);
+        return TC_ENOMEM;
+    }
+    tc__parallel_for(m->threads, m->nv, 16384, zero_slots_part, &cp);
+    tc__parallel_for(m->threads, nc, 16384, count_part, &cp);
+    m->vstart[0] = 0;
+    for (int32_t v = 0; v < m->nv; v++) { /* the counts become the first places */
+        int32_t n = atomic_load_explicit(&cp.slot[v], memory_order_relaxed);
+        atomic_store_explicit(&cp.slot[v], m->vstart[v], memory_order_relaxed);
+        m->vstart[v + 1] = m->vstart[v] + n;
+    }
+    tc__parallel_for(m->threads, nc, 16384, place_part, &cp);
+    if (cp.shared) tc__parallel_for(m->threads, m->nv, 4096, sort_corners_part, &cp);
+    free(cp.slot);
     return TC_OK;
 }
 
@@ -294,8 +361,9 @@ static int link_edges(struct tc_mesh *m, const edge_sides *es, tc_diags *dg) {
 
 /* The fans; the serial check stops at the first vertex found bad. */
 static int check_fans(struct tc_mesh *m, tc_diags *dg) {
-    int32_t *seen = tc__calloc(3 * (size_t)m->nt, sizeof *seen);
+    int32_t *seen = tc__malloc(3 * (size_t)m->nt, sizeof *seen); /* zeroed on the threads (first touch) */
     if (!seen) return TC_ENOMEM;
+    tc__parallel_zero(m->threads, seen, 3 * (size_t)m->nt * sizeof *seen);
     topo_pass tp = {m, NULL, seen, {0}};
     tc__parallel_for(m->threads, m->nv, 4096, fans_part, &tp);
     int32_t bad = first_bad(&tp, tc__parallel_parts(m->threads, m->nv, 4096));
@@ -312,7 +380,7 @@ static int check_fans(struct tc_mesh *m, tc_diags *dg) {
 static void unlinked_part(void *ctx, int32_t lo, int32_t hi, int part) {
     struct tc_mesh *m = ctx;
     (void)part;
-    for (int32_t c = lo; c < hi; c++) m->nbr[c] = -1;
+    for (int32_t c = lo; c < hi; c++) m->nbr[c] = -1, m->nbr_k[c] = 0;
 }
 
 static void flags_part(void *ctx, int32_t lo, int32_t hi, int part) {
@@ -326,7 +394,7 @@ int tc__topology_build(struct tc_mesh *m, tc_diags *dg) {
     int rc = build_vertex_corners(m);
     if (rc != TC_OK) return rc;
     m->nbr = tc__malloc(nc, sizeof *m->nbr);
-    m->nbr_k = tc__calloc(nc, sizeof *m->nbr_k);
+    m->nbr_k = tc__malloc(nc, sizeof *m->nbr_k); /* nbr, nbr_k: set by unlinked_part */
     m->flag = tc__malloc(nc, sizeof *m->flag);
     if (!m->nbr || !m->nbr_k || !m->flag) return TC_ENOMEM;
     tc__parallel_for(m->threads, (int32_t)nc, 16384, unlinked_part, m);
@@ -364,13 +432,14 @@ typedef struct {
     tc_continuity *src_kind;
 } flag_ctx;
 
-static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j, int32_t p, int32_t q,
+/* c: the edge side from p to q (tc__find_edge), or -1. */
+static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j, int32_t p, int32_t q, int32_t c,
                         tc_diags *dg) {
     char path[64]; /* formatted only for a finding: a clean segment costs an edge look-up */
 #define SEGMENT_PATH() snprintf(path, sizeof path, "discontinuities.%s[%d][%d]", fc->name, (int)line, (int)j)
     if (p == q && SEGMENT_PATH() > 0)
         return tc_diags_add(dg, TC_SEV_ERROR, path, "segment [%d, %d] repeats a vertex", (int)p, (int)q);
-    int32_t c = tc__find_edge(m, p, q), dropped = c < 0 ? tc__dropped_with_edge(m, fc->d, p, q) : -1;
+    int32_t dropped = c < 0 ? tc__dropped_with_edge(m, fc->d, p, q) : -1;
     if (c < 0 || tc__is_diagonal(m, c) || (fc->src[c] >= 0 && fc->src_kind[c] != fc->kind)) SEGMENT_PATH();
 #undef SEGMENT_PATH
     if (dropped >= 0) /* nothing left to flag: the edge went with the triangle */
@@ -399,9 +468,37 @@ static int flag_segment(struct tc_mesh *m, flag_ctx *fc, int32_t line, int32_t j
     return TC_OK;
 }
 
+/* The edge look-ups of a set of polylines, on the threads (they read the
+ * topology only, never the flags): edge[j] for the segment from verts[j - 1]
+ * to verts[j], for every j in (first, n) (a pair that spans two polylines is
+ * looked up for nothing), or -2 where a vertex is out of range or repeated
+ * (the serial pass reports those). Only for polylines laid end to end
+ * (start[] nondecreasing): then verts[first .. n) is what the pass reads. */
+typedef struct {
+    const struct tc_mesh *m;
+    const int32_t *verts;
+    int32_t first;
+    int32_t *edge; /* [n], or NULL: looked up in the serial pass */
+} edge_lookup;
+
+static void lookup_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const edge_lookup *el = ctx;
+    int32_t nv = el->m->nv;
+    (void)part;
+    for (int32_t j = lo > el->first ? lo : el->first + 1; j < hi; j++) {
+        int32_t p = el->verts[j - 1], q = el->verts[j];
+        el->edge[j] = p < 0 || p >= nv || q < 0 || q >= nv || p == q ? -2 : tc__find_edge(el->m, p, q);
+    }
+}
+
 static int flag_polylines(struct tc_mesh *m, const tc_polylines *pl, flag_ctx *fc, tc_diags *dg) {
     int rc = TC_OK;
     char path[64];
+    int end_to_end = pl->count > 0 && pl->start[0] >= 0;
+    for (int32_t i = 0; end_to_end && i < pl->count; i++) end_to_end = pl->start[i] <= pl->start[i + 1];
+    int32_t n = end_to_end ? pl->start[pl->count] : 0;
+    edge_lookup el = {m, pl->verts, end_to_end ? pl->start[0] : 0, n > 1 ? tc__malloc((size_t)n, sizeof *el.edge) : NULL};
+    if (el.edge) tc__parallel_for(m->threads, n, 1024, lookup_part, &el); /* else looked up below */
     for (int32_t i = 0; i < pl->count; i++) {
         int32_t s = pl->start[i], e = pl->start[i + 1];
         snprintf(path, sizeof path, "discontinuities.%s[%d]", fc->name, (int)i);
@@ -417,10 +514,20 @@ static int flag_polylines(struct tc_mesh *m, const tc_polylines *pl, flag_ctx *f
                                   (int)m->nv);
                 break;
             }
-            if (j > s && flag_segment(m, fc, i, j - 1 - s, pl->verts[j - 1], v, dg) != TC_OK) rc = TC_EINVAL;
+            if (j == s) continue;
+            int32_t p = pl->verts[j - 1];
+            int32_t c = el.edge && el.edge[j] != -2 ? el.edge[j] : p == v ? -1 : tc__find_edge(m, p, v);
+            if (flag_segment(m, fc, i, j - 1 - s, p, v, c, dg) != TC_OK) rc = TC_EINVAL;
         }
     }
+    free(el.edge);
     return rc;
+}
+
+static void unflagged_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    int32_t *src = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) src[c] = -1;
 }
 
 int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
@@ -432,7 +539,7 @@ int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     fc.src_kind = tc__malloc(nc, sizeof *fc.src_kind);
     int rc = TC_ENOMEM;
     if (fc.src && fc.src_kind) {
-        for (size_t c = 0; c < nc; c++) fc.src[c] = -1;
+        tc__parallel_for(m->threads, (int32_t)nc, 16384, unflagged_part, fc.src);
         fc.name = "c0";
         fc.kind = TC_C0;
         rc = flag_polylines(m, &d->c0, &fc, dg);

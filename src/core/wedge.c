@@ -139,11 +139,13 @@ static int32_t link_across(const struct tc_mesh *m, tc__wedge_set *ws, int32_t l
 /* The parallel build: part p makes the wedges of vertices [lo, hi) into
  * w[vstart[lo] ..] (a vertex has at most as many wedges as corners) numbered
  * from 0, its corners at their serial place (fill = vstart[v] at vertex v);
- * then the parts' wedges are moved together in order and renumbered, so the
- * set is the serial one whatever the parts. */
+ * then the parts' wedges are copied together in order into `packed` (with
+ * more than one part: a fresh array, so the parts copy at once) and
+ * renumbered, so the set is the serial one whatever the parts. */
 typedef struct {
     const struct tc_mesh *m;
     tc__wedge_set *ws;
+    tc__wedge *packed; /* NULL: one part, its wedges already in place */
     int32_t deg;
     int32_t lo[TC_PARALLEL_MAX], nw[TC_PARALLEL_MAX], base[TC_PARALLEL_MAX], ncoupled[TC_PARALLEL_MAX];
     int nomem[TC_PARALLEL_MAX];
@@ -172,9 +174,16 @@ static void renumber_part(void *ctx, int32_t lo, int32_t hi, int part) {
     wedge_pass *wp = ctx;
     const struct tc_mesh *m = wp->m;
     int32_t shift = wp->base[part];
-    (void)hi;
     TC_ASSERT(wp->lo[part] == lo);
+    if (wp->packed)
+        memcpy(wp->packed + shift, wp->ws->w + m->vstart[lo], (size_t)wp->nw[part] * sizeof *wp->packed);
     for (int32_t i = m->vstart[lo]; i < m->vstart[hi]; i++) wp->ws->of_corner[m->vcorner[i]] += shift;
+}
+
+static void no_wedge_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    tc__wedge_set *ws = ctx;
+    (void)part;
+    for (int32_t c = lo; c < hi; c++) ws->of_corner[c] = -1;
 }
 
 static void across_part(void *ctx, int32_t lo, int32_t hi, int part) {
@@ -205,7 +214,7 @@ int tc__wedges_build_on(const struct tc_mesh *m, int honor_flags, int threads, t
         tc__wedges_free(ws);
         return TC_ENOMEM;
     }
-    for (size_t c = 0; c < nc; c++) ws->of_corner[c] = -1;
+    tc__parallel_for(threads, (int32_t)nc, 16384, no_wedge_part, ws);
     wedge_pass wp = {.m = m, .ws = ws, .deg = deg};
     int parts = tc__parallel_parts(threads, m->nv, 4096);
     tc__parallel_for(threads, m->nv, 4096, wedges_part, &wp);
@@ -215,10 +224,14 @@ int tc__wedges_build_on(const struct tc_mesh *m, int honor_flags, int threads, t
             return TC_ENOMEM;
         }
         wp.base[p] = ws->nw;
-        memmove(ws->w + ws->nw, ws->w + m->vstart[wp.lo[p]], (size_t)wp.nw[p] * sizeof *ws->w); /* down: in order */
         ws->nw += wp.nw[p];
     }
+    if (parts > 1 && !(wp.packed = tc__malloc((size_t)ws->nw, sizeof *wp.packed))) {
+        tc__wedges_free(ws);
+        return TC_ENOMEM;
+    }
     tc__parallel_for(threads, m->nv, 4096, renumber_part, &wp); /* the same parts: the split depends on n only */
+    if (wp.packed) free(ws->w), ws->w = wp.packed;
     tc__parallel_for(threads, ws->nw, 4096, across_part, &wp);
     for (int p = 0; p < tc__parallel_parts(threads, ws->nw, 4096); p++) ws->ncoupled += wp.ncoupled[p];
     TC_ASSERT_CHECK(tc__wedges_check, m, ws);

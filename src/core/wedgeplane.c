@@ -323,10 +323,14 @@ static void warn_amp(const amp_report *a, tc_diags *dg) {
 }
 
 /* For every wedge, the area-weighted mean of the average planes of all the
- * wedges at its vertex (wedges of one vertex are contiguous in ws->w). */
-static void vertex_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *avg, double *vplane) {
+ * wedges at its vertex (wedges of one vertex are contiguous in ws->w): the
+ * groups that start in [lo, hi), the last one read to its end. */
+static void vertex_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *avg, double *vplane,
+                          int32_t lo, int32_t hi) {
     size_t stride = 2 * (size_t)m->nc;
-    for (int32_t w0 = 0, w1; w0 < ws->nw; w0 = w1) {
+    int32_t w0 = lo;
+    while (w0 > 0 && w0 < hi && ws->w[w0].v == ws->w[w0 - 1].v) w0++; /* its group started before lo */
+    for (int32_t w1; w0 < hi; w0 = w1) {
         double sum[2 * TC_MAX_CHANNELS] = {0}, wsum = 0;
         for (w1 = w0; w1 < ws->nw && ws->w[w1].v == ws->w[w0].v; w1++) {
             double a = 0;
@@ -337,6 +341,61 @@ static void vertex_planes(const struct tc_mesh *m, const tc__wedge_set *ws, cons
         for (int32_t w = w0; w < w1; w++)
             for (size_t k = 0; k < stride; k++) vplane[(size_t)w * stride + k] = sum[k] / wsum;
     }
+}
+
+/* The planes of the wedges with a C0 side, from the averages and vertex
+ * planes (read only), in parts: each writes its own wedges' planes and keeps
+ * its own amplification report, merged in part order (the serial report); a
+ * part stops at its first singular Project, and then the whole loop runs
+ * again in order to report it as the serial one does. */
+typedef struct {
+    const struct tc_mesh *m;
+    const tc__wedge_set *ws;
+    plane_rules pr;
+    double *vplane; /* pr.vplane, written by vertex_planes_part first */
+    double *out;
+    amp_report amps[TC_PARALLEL_MAX];
+    int bad[TC_PARALLEL_MAX];
+} coupled_pass;
+
+static int coupled_planes(const coupled_pass *cp, int32_t lo, int32_t hi, amp_report *amps, tc_diags *dg) {
+    const tc__wedge_set *ws = cp->ws;
+    int nc = cp->pr.nc;
+    size_t stride = 2 * (size_t)nc;
+    for (int32_t w = lo; w < hi; w++) {
+        const tc__wedge *wd = &ws->w[w];
+        if (wd->across[0] < 0 && wd->across[1] < 0) continue;
+        for (int ch = 0; ch < nc; ch++) {
+            double *g = cp->out + (size_t)w * stride + 2 * ch, amp = 1;
+            if (cp->pr.corrected) {
+                corrected(&cp->pr, w, ch, g);
+                continue;
+            }
+            int bad = literal(&cp->pr, w, ch, g, &amp) < 0;
+            note_amp(amps, amp, wd->v);
+            if (bad) {
+                char path[48];
+                snprintf(path, sizeof path, "vertices[%d]", (int)wd->v);
+                return tc_diags_add(dg, TC_SEV_ERROR, path,
+                                    "wedges \"literal\": Figure 6's Project is singular at vertex %d (1 + a*s near 0; "
+                                    "it would amplify the gradient %.3gx, limit %.0fx); use wedges \"corrected\"",
+                                    (int)wd->v, amp, PROJECT_LIMIT);
+            }
+        }
+    }
+    return TC_OK;
+}
+
+static void coupled_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    coupled_pass *cp = ctx;
+    memset(&cp->amps[part], 0, sizeof cp->amps[part]);
+    cp->bad[part] = coupled_planes(cp, lo, hi, &cp->amps[part], NULL) != TC_OK;
+}
+
+static void vertex_planes_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    const coupled_pass *cp = ctx;
+    (void)part;
+    vertex_planes(cp->m, cp->ws, cp->pr.avg, cp->vplane, lo, hi);
 }
 
 /* The averages of wedges [lo, hi) (each writes its own entries). */
@@ -366,43 +425,35 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
     if (!area) return TC_ENOMEM;
     average_pass ap = {m, ws, inputs, by_area, out, area};
     tc__parallel_for(ws->threads, ws->nw, 4096, average_part, &ap);
-    double *avg = ws->ncoupled ? malloc((size_t)ws->nw * stride * sizeof *avg) : NULL;
+    double *avg = ws->ncoupled ? tc__malloc((size_t)ws->nw * stride, sizeof *avg) : NULL;
     if (ws->ncoupled == 0 || !avg) { /* no C0 sides: the averages are final */
         free(area);
         return ws->ncoupled == 0 ? TC_OK : TC_ENOMEM;
     }
-    memcpy(avg, out, (size_t)ws->nw * stride * sizeof *avg);
-    double *vplane = malloc((size_t)ws->nw * stride * sizeof *vplane);
+    tc__parallel_copy(ws->threads, avg, out, (size_t)ws->nw * stride * sizeof *avg);
+    double *vplane = tc__malloc((size_t)ws->nw * stride, sizeof *vplane);
     if (!vplane) {
         free(avg), free(area);
         return TC_ENOMEM;
     }
-    vertex_planes(m, ws, avg, vplane);
-    plane_rules pr = {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED};
-    int rc = TC_OK;
+    coupled_pass cp = {m, ws, {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED}, vplane, out, {{0}}, {0}};
+    tc__parallel_for(ws->threads, ws->nw, 4096, vertex_planes_part, &cp);
+    tc__parallel_for(ws->threads, ws->nw, 4096, coupled_part, &cp);
+    int rc = TC_OK, bad = 0;
     amp_report amps;
     memset(&amps, 0, sizeof amps);
-    for (int32_t w = 0; w < ws->nw && rc == TC_OK; w++) {
-        const tc__wedge *wd = &ws->w[w];
-        if (wd->across[0] < 0 && wd->across[1] < 0) continue;
-        for (int ch = 0; ch < nc; ch++) {
-            double *g = out + (size_t)w * stride + 2 * ch, amp = 1;
-            if (mode == TC_WEDGES_CORRECTED) {
-                corrected(&pr, w, ch, g);
-                continue;
-            }
-            int bad = literal(&pr, w, ch, g, &amp) < 0;
-            note_amp(&amps, amp, wd->v);
-            if (bad) {
-                char path[48];
-                snprintf(path, sizeof path, "vertices[%d]", (int)wd->v);
-                rc = tc_diags_add(dg, TC_SEV_ERROR, path,
-                                  "wedges \"literal\": Figure 6's Project is singular at vertex %d (1 + a*s near 0; "
-                                  "it would amplify the gradient %.3gx, limit %.0fx); use wedges \"corrected\"",
-                                  (int)wd->v, amp, PROJECT_LIMIT);
-                break;
-            }
-        }
+    for (int p = 0; p < tc__parallel_parts(ws->threads, ws->nw, 4096); p++) {
+        const amp_report *a = &cp.amps[p];
+        bad |= cp.bad[p];
+        if (a->count && (amps.count == 0 || a->worst > amps.worst)) amps.worst = a->worst, amps.worst_v = a->worst_v;
+        amps.count += a->count;
+        for (int i = 0; i < a->nfirst; i++)
+            if (amps.nfirst < AMP_LIST && (amps.nfirst == 0 || amps.first[amps.nfirst - 1] != a->first[i]))
+                amps.first[amps.nfirst++] = a->first[i];
+    }
+    if (bad) { /* again in order, for the finding */
+        memset(&amps, 0, sizeof amps);
+        rc = coupled_planes(&cp, 0, ws->nw, &amps, dg);
     }
     if (rc == TC_OK) warn_amp(&amps, dg);
     free(avg);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/alloc.h"
 #include "io/hugemem.h"
 #include "io/strbuf.h"
 
@@ -63,4 +64,27 @@ TEST(hugemem_advice_only_from_its_threshold) {
     tc__huge_advise(NULL, TC_HUGE_MIN); /* a failed allocation: nothing to advise */
     CHECK(tc__huge_advised() == a0 + 1);
     free(p);
+}
+
+/* The core's big arrays (core/alloc.h, from TC__HUGE_MIN bytes): whole huge pages, advised
+ * for huge pages before their first write (a build's page faults cost as much as its work
+ * on 4 KiB pages); calloc's still zeroed. Smaller ones are plain malloc blocks. */
+TEST(hugemem_core_big_arrays_are_advised) {
+    size_t n = TC__HUGE_MIN / sizeof(double) + 1000;
+    double *a = tc__malloc(n, sizeof *a), *z = tc__calloc(n, sizeof *z);
+    CHECK(a && z);
+    if (!a || !z) return;
+    CHECK_MSG((uintptr_t)a % ((size_t)2 << 20) == 0, "a %zu-byte array is not on a 2 MiB boundary", n * sizeof *a);
+    size_t nonzero = 0;
+    for (size_t i = 0; i < n; i++)
+        if (z[i] != 0) nonzero++;
+    CHECK(nonzero == 0);
+    for (size_t i = 0; i < n; i++) a[i] = (double)i;
+    CHECK(a[n - 1] == (double)(n - 1));
+#ifdef __linux__
+    CHECK_MSG(marked_huge(a + n / 2) != 0, "the big array's mapping is not marked for huge pages");
+    CHECK_MSG(marked_huge(z + n / 2) != 0, "the big zeroed array's mapping is not marked for huge pages");
+#endif
+    free(a), free(z);
+    CHECK(tc__malloc((size_t)-1 / 2, 4) == NULL && tc__calloc((size_t)-1 / 2, 4) == NULL); /* n * size overflows */
 }

@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/mesh.h"
+#include "core/wedge.h"
 #include "meshgen.h"
 #include "props.h"
 #include "quadgen.h"
@@ -113,6 +115,9 @@ TEST(threads_build_bit_identical) {
     CHECK(same_on_threads("clough-tocher, range free", &d, &o) == TC_OK);
     o.cross_boundary = TC_CROSS_SALESIN, o.wedges = TC_WEDGES_LITERAL, o.average = TC_AVERAGE_NORMALS;
     CHECK(same_on_threads("salesin literal", &d, &o) == TC_OK);
+    tc_options_default(&o);
+    o.wedges = TC_WEDGES_LITERAL; /* the C0 wedges' planes by Figure 6's Project, in parts */
+    CHECK(same_on_threads("wedges literal", &d, &o) == TC_OK);
     for (int mt = 0; mt < tc_method_count(); mt++) {
         if (tc_method_quads_only((tc_method)mt)) continue;
         tc_options_default(&o);
@@ -227,6 +232,19 @@ TEST(threads_data_errors_as_serial) {
     o.range = TC_RANGE_FREE;
     CHECK(same_on_threads("overflow", &d, &o) == TC_OK); /* the mesh is fine: the build fails */
     free(grads);
+    size_t vsz = (size_t)g.nv * (size_t)g.nc, xsz = (size_t)g.nv * 2; /* values and vertices that are no numbers */
+    double *vals = malloc(vsz * sizeof *vals), *xy = malloc(xsz * sizeof *xy);
+    memcpy(vals, g.values, vsz * sizeof *vals);
+    vals[(size_t)late * 2 + 1] = NAN, vals[(size_t)early * 2] = -INFINITY;
+    tmesh_desc(&g, &d);
+    d.values = vals;
+    CHECK(same_on_threads("values not finite", &d, &o) == TC_EINVAL);
+    memcpy(xy, g.xy, xsz * sizeof *xy);
+    xy[(size_t)late * 2] = INFINITY, xy[(size_t)early * 2 + 1] = NAN;
+    tmesh_desc(&g, &d);
+    d.xy = xy;
+    CHECK(same_on_threads("vertices not finite", &d, &o) == TC_EINVAL);
+    free(vals), free(xy);
     tmesh_free(&g);
 }
 
@@ -299,5 +317,151 @@ TEST(threads_errors_as_serial) {
     int32_t start[] = {0, 6};
     d.c0 = (tc_polylines){1, start, verts};
     CHECK(same_on_threads("polyline", &d, &o) == TC_EINVAL);
+    tmesh_free(&g);
+}
+
+/* The wedges of one set equal another's, field by field (not memcmp: padding). */
+static int same_wedges(const tc__wedge_set *a, const tc__wedge_set *b, int32_t ncorner, int32_t nv) {
+    if (a->nw != b->nw || a->ncoupled != b->ncoupled) return 0;
+    for (int32_t i = 0; i < a->nw; i++) {
+        const tc__wedge *x = &a->w[i], *y = &b->w[i];
+        if (x->v != y->v || x->first != y->first || x->count != y->count || x->collinear != y->collinear) return 0;
+        for (int s = 0; s < 2; s++)
+            if (x->side_edge[s] != y->side_edge[s] || x->side_kind[s] != y->side_kind[s] ||
+                x->across[s] != y->across[s] || memcmp(x->dir[s], y->dir[s], sizeof x->dir[s]))
+                return 0;
+    }
+    return !memcmp(a->corners, b->corners, (size_t)ncorner * sizeof *a->corners) &&
+           !memcmp(a->of_corner, b->of_corner, (size_t)ncorner * sizeof *a->of_corner) &&
+           !memcmp(a->vclass, b->vclass, (size_t)nv * sizeof *a->vclass);
+}
+
+/* What the threads build inside: the vertex -> corner lists (each corner takes its
+ * place by an atomic add, in any order, then each list is sorted), the adjacency, the
+ * corner values, and the wedge sets (each part's wedges copied into one array), on
+ * a mesh where every one of those loops is split in parts. */
+TEST(threads_mesh_internals_bit_identical) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 23);
+    tmesh g;
+    big_mesh(&g, &r);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    d.threads = 1;
+    tc_mesh *s = NULL;
+    CHECK(tc_mesh_new(&d, &s, NULL) == TC_OK);
+    int32_t nc = 3 * s->nt;
+    static const int threads[] = {2, 3, 8};
+    static const int honor[] = {TC_HONOR_NONE, TC_HONOR_ALL, TC_HONOR_CM1};
+    for (size_t i = 0; s && i < sizeof threads / sizeof threads[0]; i++) {
+        tc_mesh *m = NULL;
+        d.threads = threads[i];
+        CHECK(tc_mesh_new(&d, &m, NULL) == TC_OK);
+        if (!m) continue;
+        CHECK_MSG(!memcmp(m->vstart, s->vstart, ((size_t)s->nv + 1) * sizeof *s->vstart) &&
+                      !memcmp(m->vcorner, s->vcorner, (size_t)nc * sizeof *s->vcorner),
+                  "%d threads: the vertex corner lists differ", threads[i]);
+        CHECK_MSG(!memcmp(m->nbr, s->nbr, (size_t)nc * sizeof *s->nbr) &&
+                      !memcmp(m->nbr_k, s->nbr_k, (size_t)nc * sizeof *s->nbr_k) &&
+                      !memcmp(m->flag, s->flag, (size_t)nc * sizeof *s->flag),
+                  "%d threads: the adjacency differs", threads[i]);
+        CHECK_MSG(!memcmp(m->cz, s->cz, (size_t)nc * (size_t)s->nc * sizeof *s->cz),
+                  "%d threads: the corner values differ", threads[i]);
+        for (size_t h = 0; h < sizeof honor / sizeof honor[0]; h++) {
+            tc__wedge_set ws1, wsn;
+            CHECK(tc__wedges_build_on(s, honor[h], 1, &ws1) == TC_OK);
+            CHECK(tc__wedges_build_on(m, honor[h], threads[i], &wsn) == TC_OK);
+            CHECK_MSG(same_wedges(&ws1, &wsn, nc, s->nv), "%d threads, honour %d: the wedges differ", threads[i],
+                      honor[h]);
+            tc__wedges_free(&ws1), tc__wedges_free(&wsn);
+        }
+        tc_mesh_free(m);
+    }
+    tc_mesh_free(s);
+    tmesh_free(&g);
+}
+
+/* Figure 6's literal Project amplifying the gradient (test_wedges.c's star: C0 on one
+ * side of its vertex, C-1 on the other, steep given planes) at 3000 disjoint copies of
+ * the star, each with its planes scaled differently (by lo .. hi): the
+ * amplification warning (count, first vertices, worst) merged from the parts of the C0
+ * wedges' planes is the serial one; with a wider range some star is singular, and the
+ * error is the serial one (the first such vertex). Returns the finding it checked. */
+static int literal_stars(double lo, double hi, const char *want) {
+    static const double xy[10] = {0, 0, 1, 0, -1, 0, 0, 1, 0, -1};
+    static const double cg[24] = {10.920623257253608, -15.971620080979365, 3.1670205030436716, -1.5876232001872848,
+                                  -8.5570255613685688, -14.675991979742417, 14.554001090374777, -4.0375080816622404,
+                                  1.3454544271088453,  3.9829071909109626,  -1.0125139639771152, 12.748638052841947,
+                                  -14.818304513962151, 5.8202596874070611,  16.759694869052474, 1.8499370021046779,
+                                  2.0653158901563451,  10.486855930875457,  7.6292296813937055, -12.452525772365055,
+                                  -9.6824571255978462, -2.0391880637217263, 12.636214454023268, 2.0197554780262328};
+    static const int32_t tri[12] = {0, 1, 3, 0, 3, 2, 0, 2, 4, 0, 4, 1};
+    enum { N = 3000 };
+    double *pxy = malloc(N * 10 * sizeof *pxy), *z = malloc(N * 5 * sizeof *z), *pcg = malloc(N * 24 * sizeof *pcg);
+    int32_t *ptri = malloc(N * 12 * sizeof *ptri), *cgt = malloc(N * 4 * sizeof *cgt);
+    int32_t *c0s = malloc((N + 1) * sizeof *c0s), *c0v = malloc(N * 2 * sizeof *c0v);
+    int32_t *cms = malloc((N + 1) * sizeof *cms), *cmv = malloc(N * 2 * sizeof *cmv);
+    for (int i = 0; i < N; i++) {
+        for (int j = 0; j < 5; j++) {
+            pxy[10 * i + 2 * j] = xy[2 * j] + 3.0 * (i % 60), pxy[10 * i + 2 * j + 1] = xy[2 * j + 1] + 3.0 * (i / 60);
+            z[5 * i + j] = 0.1 * j + 0.01 * (i % 13);
+        }
+        for (int j = 0; j < 12; j++) ptri[12 * i + j] = 5 * i + tri[j];
+        for (int j = 0; j < 24; j++) pcg[24 * i + j] = cg[j] * (lo + (hi - lo) * ((i * 37) % 101) / 100.0);
+        for (int j = 0; j < 4; j++) cgt[4 * i + j] = 4 * i + j;
+        c0s[i] = cms[i] = 2 * i;
+        c0v[2 * i] = 5 * i, c0v[2 * i + 1] = 5 * i + 1, cmv[2 * i] = 5 * i + 2, cmv[2 * i + 1] = 5 * i;
+    }
+    c0s[N] = cms[N] = 2 * N;
+    tc_mesh_desc d;
+    tc_mesh_desc_init(&d);
+    d.nverts = 5 * N, d.xy = pxy, d.ntris = 4 * N, d.tris = ptri, d.nchan = 1, d.values = z;
+    d.ncorner_gradients = 4 * N, d.corner_gradients_tri = cgt, d.corner_gradients = pcg;
+    d.c0 = (tc_polylines){N, c0s, c0v}, d.cm1 = (tc_polylines){N, cms, cmv};
+    tc_options o;
+    tc_options_default(&o);
+    o.tangents = TC_TANGENTS_GIVEN, o.wedges = TC_WEDGES_LITERAL, o.range = TC_RANGE_FREE;
+    CHECK(same_on_threads(want, &d, &o) == TC_OK);
+    outcome s; /* the case is what it means */
+    run(&d, &o, 1, &s);
+    int found = 0;
+    for (int j = 0; j < s.dg.count; j++) found |= strstr(s.dg.items[j].message, want) != NULL;
+    outcome_free(&s);
+    free(pxy), free(z), free(pcg), free(ptri), free(cgt), free(c0s), free(c0v), free(cms), free(cmv);
+    return found;
+}
+
+TEST(threads_literal_project_as_serial) {
+    CHECK_MSG(literal_stars(0.98, 1.02, "wedge planes (literal Project) amplify"), "no amplification warning");
+    CHECK_MSG(literal_stars(0.2, 1.1, "Project is singular at vertex"), "no singular Project");
+}
+
+/* Snakes over the grid's rows (C0 over rows 0..63, C-1 over rows 66..130, 8000 and more
+ * segments each): their edge look-ups run in parts; the flags, and the errors of
+ * segments that are no edges or repeat a vertex, early and late, as serially. */
+static int32_t snake(int32_t *v, int row0, int row1) {
+    int32_t n = 0;
+    for (int row = row0; row <= row1; row++)
+        for (int k = 0; k <= 130; k++) v[n++] = tmesh_gv(130, (row - row0) % 2 ? 130 - k : k, row);
+    return n;
+}
+
+TEST(threads_long_polylines_as_serial) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 24);
+    tmesh g;
+    tmesh_grid(&g, 130, 130, 0.2, -1, &r);
+    tmesh_sample(&g, 1, smooth_f, NULL, 1, 0, 0);
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    tc_options o;
+    tc_options_default(&o);
+    int32_t *c0v = malloc(131 * 131 * sizeof *c0v), *cmv = malloc(131 * 131 * sizeof *cmv), c0s[2], cms[2];
+    c0s[0] = cms[0] = 0, c0s[1] = snake(c0v, 0, 63), cms[1] = snake(cmv, 66, 130);
+    d.c0 = (tc_polylines){1, c0s, c0v}, d.cm1 = (tc_polylines){1, cms, cmv};
+    CHECK(same_on_threads("long polylines", &d, &o) == TC_OK);
+    c0v[c0s[1] - 3] = tmesh_gv(130, 65, 100), c0v[5] = c0v[4];
+    CHECK(same_on_threads("long polylines, bad segments", &d, &o) == TC_EINVAL);
+    free(c0v), free(cmv);
     tmesh_free(&g);
 }
