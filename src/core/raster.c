@@ -1,6 +1,7 @@
 /* raster.c — rendering a reconstruction over a tile of pixels: every pixel centre
- * owned by exactly the triangle tc_locate names (shared exact test), evaluated
- * exactly as tc_eval_triangle does, rows split into bands across threads. */
+ * owned by exactly the triangle tc_locate names (its exact rule, certified four lanes
+ * at a time), valued by the fast cubic (ct_fast.h) or exactly as tc_eval_triangle does,
+ * rows split into bands across threads. */
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
