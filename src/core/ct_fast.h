@@ -20,11 +20,9 @@
 #include <string.h>
 
 #include "core/ct.h"
+#include "core/vec4.h"
 
 #define TC__CT_FAST_ASPECT 64.0
-
-typedef double tc__v4d __attribute__((vector_size(32)));
-typedef int64_t tc__v4i __attribute__((vector_size(32)));
 
 /* The monomials of A, B, C, in the order of tc__ct_fast's coefficients. */
 /* (C^3 has none: its ordinate is the centroid's, the base the others are taken from.) */
@@ -42,34 +40,7 @@ void tc__ct_fast_prepare(const tc__eval_frame *f, const double *coef, int nc, tc
 /* Tests: 1 makes tc_render use the portable build of its row loop (raster.c), 0 lets the CPU choose. */
 void tc__raster_force_generic(int on);
 
-#define TC__FAST_INLINE static inline __attribute__((always_inline))
-
-TC__FAST_INLINE tc__v4d tc__splat(double x) {
-    return (tc__v4d){x, x, x, x};
-}
-
-/* m ? a : b, lane by lane (m all ones or all zeros): exact. */
-TC__FAST_INLINE tc__v4d tc__sel(tc__v4i m, tc__v4d a, tc__v4d b) {
-    tc__v4i ia, ib;
-    memcpy(&ia, &a, sizeof ia);
-    memcpy(&ib, &b, sizeof ib);
-    tc__v4i r = (ia & m) | (ib & ~m);
-    tc__v4d out;
-    memcpy(&out, &r, sizeof out);
-    return out;
-}
-
-/* Bit l set when lane l of m is set (m all ones or all zeros per lane): SSE2's movmskpd on
- * each half, so it builds for the portable and the AVX2 variants alike. */
-TC__FAST_INLINE unsigned tc__mask4(tc__v4i m) {
-    typedef double v2d __attribute__((vector_size(16)));
-    v2d lo, hi;
-    memcpy(&lo, &m, sizeof lo);
-    memcpy(&hi, (const char *)&m + sizeof lo, sizeof hi);
-    return (unsigned)__builtin_ia32_movmskpd(lo) | (unsigned)__builtin_ia32_movmskpd(hi) << 2;
-}
-
-TC__FAST_INLINE void tc__ct_fast_monomials(int s, const tc__v4d l[3], tc__v4d mono[TC__NMONO]) {
+TC__V4_INLINE void tc__ct_fast_monomials(int s, const tc__v4d l[3], tc__v4d mono[TC__NMONO]) {
     tc__v4d ls = l[s], A = l[(s + 1) % 3] - ls, B = l[(s + 2) % 3] - ls, C = tc__splat(3) * ls;
     tc__v4d AA = A * A, BB = B * B, CC = C * C;
     mono[TC__M_AAA] = AA * A, mono[TC__M_BBB] = BB * B;
@@ -78,19 +49,19 @@ TC__FAST_INLINE void tc__ct_fast_monomials(int s, const tc__v4d l[3], tc__v4d mo
 }
 
 /* A sum in a tree, not a chain: the additions' latency, not their count, bounds a chain. */
-TC__FAST_INLINE tc__v4d tc__ct_fast_cubic(const double *c, double base, const tc__v4d m[TC__NMONO]) {
+TC__V4_INLINE tc__v4d tc__ct_fast_cubic(const double *c, double base, const tc__v4d m[TC__NMONO]) {
     tc__v4d p0 = tc__splat(c[0]) * m[0] + tc__splat(c[1]) * m[1], p1 = tc__splat(c[2]) * m[2] + tc__splat(c[3]) * m[3];
     tc__v4d p2 = tc__splat(c[4]) * m[4] + tc__splat(c[5]) * m[5], p3 = tc__splat(c[6]) * m[6] + tc__splat(c[7]) * m[7];
     return tc__splat(base) + (((p0 + p1) + (p2 + p3)) + tc__splat(c[8]) * m[8]);
 }
 
 /* The row's constants: K[q] = e[q].x (y - a[q].y). */
-TC__FAST_INLINE void tc__ct_fast_row(const tc__ct_fast *ff, double y, double K[3]) {
+TC__V4_INLINE void tc__ct_fast_row(const tc__ct_fast *ff, double y, double K[3]) {
     for (int q = 0; q < 3; q++) K[q] = ff->ex[q] * (y - ff->ay[q]);
 }
 
 /* Values v[ch] at the four centres (x[l], y) of the row whose constants K gives. */
-TC__FAST_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double K[3], tc__v4d x, tc__v4d *v) {
+TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double K[3], tc__v4d x, tc__v4d *v) {
     tc__v4d lam[3];
     for (int q = 0; q < 3; q++)
         lam[q] = (tc__splat(K[q]) - tc__splat(ff->ey[q]) * (x - tc__splat(ff->ax[q]))) * tc__splat(ff->inv[q]);

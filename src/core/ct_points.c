@@ -12,79 +12,67 @@
 #include <string.h>
 
 #include "core/ct.h"
+#include "core/vec4.h"
 #include "core/ct_points.h"
 
-typedef double v4d __attribute__((vector_size(32)));
-typedef int64_t v4i __attribute__((vector_size(32)));
 
-#define INLINE static inline __attribute__((always_inline))
-
-/* m ? a : b, lane by lane (m all ones or all zeros). */
-INLINE v4d sel(v4i m, v4d a, v4d b) {
-    v4i ia, ib;
-    memcpy(&ia, &a, sizeof ia);
-    memcpy(&ib, &b, sizeof ib);
-    v4i r = (ia & m) | (ib & ~m);
-    v4d out;
-    memcpy(&out, &r, sizeof out);
-    return out;
-}
+#define INLINE TC__V4_INLINE
 
 /* Field `expr` (of frame f) of the four lanes. */
-#define GATHER(L, expr) ((v4d){(L)[0].f->expr, (L)[1].f->expr, (L)[2].f->expr, (L)[3].f->expr})
+#define GATHER(L, expr) ((tc__v4d){(L)[0].f->expr, (L)[1].f->expr, (L)[2].f->expr, (L)[3].f->expr})
 
 /* tc__frame_at's lam[q], lane by lane. */
-INLINE v4d lam_of(const tc__ct_lane *L, int q, v4d x, v4d y) {
+INLINE tc__v4d lam_of(const tc__ct_lane *L, int q, tc__v4d x, tc__v4d y) {
     int a = (q + 1) % 3, b = (q + 2) % 3;
-    v4d dax = x - GATHER(L, p[a][0]), day = y - GATHER(L, p[a][1]);
-    v4d dbx = x - GATHER(L, p[b][0]), dby = y - GATHER(L, p[b][1]);
-    v4i near_b = (dbx * dbx + dby * dby) < (dax * dax + day * day);
-    v4d dx = sel(near_b, dbx, dax), dy = sel(near_b, dby, day);
-    v4d cross = GATHER(L, e[q][0]) * dy - GATHER(L, e[q][1]) * dx;
-    return cross * sel(near_b, GATHER(L, inv_b[q]), GATHER(L, inv_a[q]));
+    tc__v4d dax = x - GATHER(L, p[a][0]), day = y - GATHER(L, p[a][1]);
+    tc__v4d dbx = x - GATHER(L, p[b][0]), dby = y - GATHER(L, p[b][1]);
+    tc__v4i near_b = (dbx * dbx + dby * dby) < (dax * dax + day * day);
+    tc__v4d dx = tc__sel(near_b, dbx, dax), dy = tc__sel(near_b, dby, day);
+    tc__v4d cross = GATHER(L, e[q][0]) * dy - GATHER(L, e[q][1]) * dx;
+    return cross * tc__sel(near_b, GATHER(L, inv_b[q]), GATHER(L, inv_a[q]));
 }
 
 INLINE void points_body(const tc__ct_lane *L, int nc, const uint8_t *floor0) {
-    v4d x = {L[0].x, L[1].x, L[2].x, L[3].x}, y = {L[0].y, L[1].y, L[2].y, L[3].y};
-    v4d l0 = lam_of(L, 0, x, y), l1 = lam_of(L, 1, x, y), l2 = lam_of(L, 2, x, y);
+    tc__v4d x = {L[0].x, L[1].x, L[2].x, L[3].x}, y = {L[0].y, L[1].y, L[2].y, L[3].y};
+    tc__v4d l0 = lam_of(L, 0, x, y), l1 = lam_of(L, 1, x, y), l2 = lam_of(L, 2, x, y);
     /* tc__ct_eval: sub = l0 <= l1 ? (l0 <= l2 ? 0 : 2) : (l1 <= l2 ? 1 : 2) */
-    v4i m01 = l0 <= l1, m02 = l0 <= l2, m12 = l1 <= l2;
-    v4i is0 = m01 & m02, is1 = ~m01 & m12;
+    tc__v4i m01 = l0 <= l1, m02 = l0 <= l2, m12 = l1 <= l2;
+    tc__v4i is0 = m01 & m02, is1 = ~m01 & m12;
     int sub[4];
     for (int k = 0; k < 4; k++) sub[k] = is0[k] ? 0 : is1[k] ? 1 : 2;
     /* A = lam[a] - lam[sub], B = lam[b] - lam[sub], C = 3 lam[sub], a = sub+1, b = sub+2 */
-    v4d A = sel(is0, l1 - l0, sel(is1, l2 - l1, l0 - l2));
-    v4d B = sel(is0, l2 - l0, sel(is1, l0 - l1, l1 - l2));
-    v4d C = 3 * sel(is0, l0, sel(is1, l1, l2));
+    tc__v4d A = tc__sel(is0, l1 - l0, tc__sel(is1, l2 - l1, l0 - l2));
+    tc__v4d B = tc__sel(is0, l2 - l0, tc__sel(is1, l0 - l1, l1 - l2));
+    tc__v4d C = 3 * tc__sel(is0, l0, tc__sel(is1, l1, l2));
     /* ref = A >= B ? (A >= C ? b300 : b003) : (B >= C ? b030 : b003) */
-    v4i mAB = A >= B, mAC = A >= C, mBC = B >= C;
-    v4i r0 = mAB & mAC, r1 = ~mAB & mBC;
+    tc__v4i mAB = A >= B, mAC = A >= C, mBC = B >= C;
+    tc__v4i r0 = mAB & mAC, r1 = ~mAB & mBC;
     int grads = L[0].g != NULL;
     for (int ch = 0; ch < nc; ch++) {
         const double *o[4];
         for (int k = 0; k < 4; k++) o[k] = L[k].coef + (size_t)ch * TC_CT_ORDINATES;
-        v4d g[10];
+        tc__v4d g[10];
         for (int j = 0; j < 10; j++)
-            g[j] = (v4d){o[0][tc__ct_sub[sub[0]][j]], o[1][tc__ct_sub[sub[1]][j]], o[2][tc__ct_sub[sub[2]][j]],
+            g[j] = (tc__v4d){o[0][tc__ct_sub[sub[0]][j]], o[1][tc__ct_sub[sub[1]][j]], o[2][tc__ct_sub[sub[2]][j]],
                          o[3][tc__ct_sub[sub[3]][j]]};
-        v4d ref = sel(r0, g[0], sel(r1, g[1], g[2]));
-        v4d b300 = g[0] - ref, b030 = g[1] - ref, b003 = g[2] - ref, b210 = g[3] - ref;
-        v4d b120 = g[4] - ref, b201 = g[5] - ref, b021 = g[6] - ref, b102 = g[7] - ref;
-        v4d b012 = g[8] - ref, b111 = g[9] - ref;
-        v4d qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
-        v4d qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
-        v4d qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
-        v4d v = ref + (A * qa + B * qb + C * qc);
-        if (floor0[ch]) v = sel(v < 0, (v4d){0, 0, 0, 0}, v); /* tc__floored */
+        tc__v4d ref = tc__sel(r0, g[0], tc__sel(r1, g[1], g[2]));
+        tc__v4d b300 = g[0] - ref, b030 = g[1] - ref, b003 = g[2] - ref, b210 = g[3] - ref;
+        tc__v4d b120 = g[4] - ref, b201 = g[5] - ref, b021 = g[6] - ref, b102 = g[7] - ref;
+        tc__v4d b012 = g[8] - ref, b111 = g[9] - ref;
+        tc__v4d qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
+        tc__v4d qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
+        tc__v4d qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
+        tc__v4d v = ref + (A * qa + B * qb + C * qc);
+        if (floor0[ch]) v = tc__sel(v < 0, (tc__v4d){0, 0, 0, 0}, v); /* tc__floored */
         for (int k = 0; k < 4; k++) L[k].v[ch] = v[k];
         if (!grads) continue;
         /* D[a] = 3 qa, D[b] = 3 qb, D[sub] = 3 (3 qc - qa - qb); lane by lane per sub:
          * sub 0: D = (Ds, Da, Db); sub 1: (Db, Ds, Da); sub 2: (Da, Db, Ds). */
-        v4d Da = 3 * qa, Db = 3 * qb, Ds = 3 * (3 * qc - qa - qb);
-        v4d D0 = sel(is0, Ds, sel(is1, Db, Da)), D1 = sel(is0, Da, sel(is1, Ds, Db));
-        v4d D2 = sel(is0, Db, sel(is1, Da, Ds));
-        v4d dl10 = GATHER(L, dl1[0]), dl11 = GATHER(L, dl1[1]), dl20 = GATHER(L, dl2[0]), dl21 = GATHER(L, dl2[1]);
-        v4d gx = (D1 - D0) * dl10 + (D2 - D0) * dl20, gy = (D1 - D0) * dl11 + (D2 - D0) * dl21;
+        tc__v4d Da = 3 * qa, Db = 3 * qb, Ds = 3 * (3 * qc - qa - qb);
+        tc__v4d D0 = tc__sel(is0, Ds, tc__sel(is1, Db, Da)), D1 = tc__sel(is0, Da, tc__sel(is1, Ds, Db));
+        tc__v4d D2 = tc__sel(is0, Db, tc__sel(is1, Da, Ds));
+        tc__v4d dl10 = GATHER(L, dl1[0]), dl11 = GATHER(L, dl1[1]), dl20 = GATHER(L, dl2[0]), dl21 = GATHER(L, dl2[1]);
+        tc__v4d gx = (D1 - D0) * dl10 + (D2 - D0) * dl20, gy = (D1 - D0) * dl11 + (D2 - D0) * dl21;
         for (int k = 0; k < 4; k++) L[k].g[2 * ch] = gx[k], L[k].g[2 * ch + 1] = gy[k];
     }
 }

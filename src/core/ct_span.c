@@ -14,53 +14,37 @@
 
 #include "core/alloc.h"
 #include "core/ct.h"
+#include "core/vec4.h"
 
-typedef double v4d __attribute__((vector_size(32)));
-typedef int64_t v4i __attribute__((vector_size(32)));
 typedef float v4f __attribute__((vector_size(16)));
 
-#define INLINE static inline __attribute__((always_inline))
-
-INLINE v4d splat(double x) {
-    return (v4d){x, x, x, x};
-}
-
-/* m ? a : b, lane by lane (m all ones or all zeros). */
-INLINE v4d sel(v4i m, v4d a, v4d b) {
-    v4i ia, ib;
-    memcpy(&ia, &a, sizeof ia);
-    memcpy(&ib, &b, sizeof ib);
-    v4i r = (ia & m) | (ib & ~m);
-    v4d out;
-    memcpy(&out, &r, sizeof out);
-    return out;
-}
+#define INLINE TC__V4_INLINE
 
 /* tc__frame_at's lam[q], lane by lane. */
-INLINE v4d lam_of(const tc__eval_frame *f, int q, v4d x, double y) {
+INLINE tc__v4d lam_of(const tc__eval_frame *f, int q, tc__v4d x, double y) {
     const double *a = f->p[(q + 1) % 3], *b = f->p[(q + 2) % 3];
-    v4d dax = x - splat(a[0]), dbx = x - splat(b[0]);
+    tc__v4d dax = x - tc__splat(a[0]), dbx = x - tc__splat(b[0]);
     double day = y - a[1], dby = y - b[1];
-    v4i near_b = (dbx * dbx + splat(dby * dby)) < (dax * dax + splat(day * day));
-    v4d dx = sel(near_b, dbx, dax), dy = sel(near_b, splat(dby), splat(day));
-    v4d cross = splat(f->e[q][0]) * dy - splat(f->e[q][1]) * dx;
-    return cross * sel(near_b, splat(f->inv_b[q]), splat(f->inv_a[q]));
+    tc__v4i near_b = (dbx * dbx + tc__splat(dby * dby)) < (dax * dax + tc__splat(day * day));
+    tc__v4d dx = tc__sel(near_b, dbx, dax), dy = tc__sel(near_b, tc__splat(dby), tc__splat(day));
+    tc__v4d cross = tc__splat(f->e[q][0]) * dy - tc__splat(f->e[q][1]) * dx;
+    return cross * tc__sel(near_b, tc__splat(f->inv_b[q]), tc__splat(f->inv_a[q]));
 }
 
 /* tc__ct_eval_sub's value for one channel's ordinates o, the subtriangle
  * chosen per lane by the masks is0 / is1 (else 2), the reference ordinate by
  * r0 / r1 (else the third). */
-INLINE v4d cubic(const double *o, v4i is0, v4i is1, v4i r0, v4i r1, v4d A, v4d B, v4d C) {
-    v4d g[10];
+INLINE tc__v4d cubic(const double *o, tc__v4i is0, tc__v4i is1, tc__v4i r0, tc__v4i r1, tc__v4d A, tc__v4d B, tc__v4d C) {
+    tc__v4d g[10];
     for (int k = 0; k < 10; k++)
-        g[k] = sel(is0, splat(o[tc__ct_sub[0][k]]), sel(is1, splat(o[tc__ct_sub[1][k]]), splat(o[tc__ct_sub[2][k]])));
-    v4d ref = sel(r0, g[0], sel(r1, g[1], g[2]));
-    v4d b300 = g[0] - ref, b030 = g[1] - ref, b003 = g[2] - ref, b210 = g[3] - ref;
-    v4d b120 = g[4] - ref, b201 = g[5] - ref, b021 = g[6] - ref, b102 = g[7] - ref;
-    v4d b012 = g[8] - ref, b111 = g[9] - ref;
-    v4d qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
-    v4d qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
-    v4d qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
+        g[k] = tc__sel(is0, tc__splat(o[tc__ct_sub[0][k]]), tc__sel(is1, tc__splat(o[tc__ct_sub[1][k]]), tc__splat(o[tc__ct_sub[2][k]])));
+    tc__v4d ref = tc__sel(r0, g[0], tc__sel(r1, g[1], g[2]));
+    tc__v4d b300 = g[0] - ref, b030 = g[1] - ref, b003 = g[2] - ref, b210 = g[3] - ref;
+    tc__v4d b120 = g[4] - ref, b201 = g[5] - ref, b021 = g[6] - ref, b102 = g[7] - ref;
+    tc__v4d b012 = g[8] - ref, b111 = g[9] - ref;
+    tc__v4d qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
+    tc__v4d qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
+    tc__v4d qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
     return ref + (A * qa + B * qb + C * qc);
 }
 
@@ -70,20 +54,20 @@ INLINE void span_body(const tc__eval_frame *f, const double *coef, int nc, const
         int32_t k = n - i < 4 ? n - i : 4;
         double xl[4];
         for (int l = 0; l < 4; l++) xl[l] = xs[i + (l < k ? l : 0)]; /* tail lanes repeat a real pixel */
-        v4d x = {xl[0], xl[1], xl[2], xl[3]};
-        v4d l0 = lam_of(f, 0, x, y), l1 = lam_of(f, 1, x, y), l2 = lam_of(f, 2, x, y);
+        tc__v4d x = {xl[0], xl[1], xl[2], xl[3]};
+        tc__v4d l0 = lam_of(f, 0, x, y), l1 = lam_of(f, 1, x, y), l2 = lam_of(f, 2, x, y);
         /* tc__ct_eval: sub = l0 <= l1 ? (l0 <= l2 ? 0 : 2) : (l1 <= l2 ? 1 : 2) */
-        v4i m01 = l0 <= l1, m02 = l0 <= l2, m12 = l1 <= l2;
-        v4i is0 = m01 & m02, is1 = ~m01 & m12;
+        tc__v4i m01 = l0 <= l1, m02 = l0 <= l2, m12 = l1 <= l2;
+        tc__v4i is0 = m01 & m02, is1 = ~m01 & m12;
         /* A = lam[a] - lam[sub], B = lam[b] - lam[sub], C = 3 lam[sub], a = sub+1, b = sub+2 */
-        v4d A = sel(is0, l1 - l0, sel(is1, l2 - l1, l0 - l2));
-        v4d B = sel(is0, l2 - l0, sel(is1, l0 - l1, l1 - l2));
-        v4d C = 3 * sel(is0, l0, sel(is1, l1, l2));
+        tc__v4d A = tc__sel(is0, l1 - l0, tc__sel(is1, l2 - l1, l0 - l2));
+        tc__v4d B = tc__sel(is0, l2 - l0, tc__sel(is1, l0 - l1, l1 - l2));
+        tc__v4d C = 3 * tc__sel(is0, l0, tc__sel(is1, l1, l2));
         /* ref = A >= B ? (A >= C ? b300 : b003) : (B >= C ? b030 : b003) */
-        v4i mAB = A >= B, mAC = A >= C, mBC = B >= C;
-        v4i r0 = mAB & mAC, r1 = ~mAB & mBC;
+        tc__v4i mAB = A >= B, mAC = A >= C, mBC = B >= C;
+        tc__v4i r0 = mAB & mAC, r1 = ~mAB & mBC;
         for (int ch = 0; ch < nc; ch++) {
-            v4d v = cubic(coef + (size_t)ch * TC_CT_ORDINATES, is0, is1, r0, r1, A, B, C);
+            tc__v4d v = cubic(coef + (size_t)ch * TC_CT_ORDINATES, is0, is1, r0, r1, A, B, C);
             v4f fv = __builtin_convertvector(v, v4f);
             for (int l = 0; l < k; l++) out[tc__ix(i + l, nc, ch)] = fv[l];
             if (dout)

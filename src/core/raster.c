@@ -211,7 +211,7 @@ typedef float v4f __attribute__((vector_size(16)));
 typedef int32_t v4si __attribute__((vector_size(16)));
 
 /* m ? a : b, lane by lane, for floats. */
-TC__FAST_INLINE v4f fsel(v4si m, v4f a, v4f b) {
+TC__V4_INLINE v4f fsel(v4si m, v4f a, v4f b) {
     v4si ia, ib, r;
     memcpy(&ia, &a, sizeof ia);
     memcpy(&ib, &b, sizeof ib);
@@ -221,7 +221,7 @@ TC__FAST_INLINE v4f fsel(v4si m, v4f a, v4f b) {
     return out;
 }
 
-TC__FAST_INLINE tc__v4d vabs(tc__v4d a) {
+TC__V4_INLINE tc__v4d vabs(tc__v4d a) {
     return tc__sel((tc__v4i){INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX}, a, tc__splat(0));
 }
 
@@ -229,7 +229,7 @@ TC__FAST_INLINE tc__v4d vabs(tc__v4d a) {
  * in `mask` only; out is the first lane's pixel, full says all four lanes are
  * pixels of the row (the others, read and written back unchanged, belong to
  * this band's thread alone). */
-TC__FAST_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], tc__v4d x, unsigned mask,
+TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], tc__v4d x, unsigned mask,
                                  int full, float *out) {
     int nc = jb->r->m->nc;
     tc__v4d v[TC_MAX_CHANNELS];
@@ -309,7 +309,7 @@ static int on_edges(const band *bd, const struct tc__slot *s, const double l[3],
  * negative) gets the exact answer without the exact test; the rest go to
  * claim(). Lanes inside are claimed and, for a fast triangle, shaded at once.
  * *first_out / *last_out: whether pixel lo / hi is out. */
-TC__FAST_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3],
+TC__V4_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3],
                                     const double al[3], const double dy[3], int32_t i, int32_t k, tc__v4d x,
                                     unsigned *inb, unsigned *outb) {
     const struct tc__slot *s = tr->s;
@@ -332,7 +332,7 @@ TC__FAST_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, do
 }
 
 /* Pixel centres i .. i + k - 1 of the row (k <= 4); lanes beyond repeat the first. */
-TC__FAST_INLINE tc__v4d lanes_x(const double *xs, int32_t i, int32_t k) {
+TC__V4_INLINE tc__v4d lanes_x(const double *xs, int32_t i, int32_t k) {
     tc__v4d x = tc__splat(xs[i]);
     if (k == 4) memcpy(&x, xs + i, sizeof x);
     else
@@ -340,7 +340,7 @@ TC__FAST_INLINE tc__v4d lanes_x(const double *xs, int32_t i, int32_t k) {
     return x;
 }
 
-TC__FAST_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3], int32_t lo,
+TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3], int32_t lo,
                                int32_t hi, int *first_out, int *last_out) {
     const job *jb = bd->jb;
     const struct tc__slot *s = tr->s;
@@ -386,7 +386,7 @@ TC__FAST_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double 
  * closed set is convex, so its pixels form one run, and where an end of the
  * guess is still in, the run goes on outward until a pixel is out. Closed-only
  * candidates are left to settle_band. */
-TC__FAST_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int32_t i0, int32_t i1) {
+TC__V4_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int32_t i0, int32_t i1) {
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
     const struct tc__slot *s = tr->s;
