@@ -16,13 +16,12 @@
 
 #include "io/numfmt.h"
 #include "numfmt_cascade.h"
+#include "benchio.h"
 
 /* This thread's CPU time, not the wall clock: the bench machines are shared, and time
  * spent descheduled is not the printer's (each figure is still the best of 3 passes). */
 static double now_s(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+    return bench_clock_s(CLOCK_THREAD_CPUTIME_ID);
 }
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ULL;

@@ -16,27 +16,13 @@
 #include "io/request.h"
 #include "io/strbuf.h"
 #include "tocher.h"
+#include "benchio.h"
 
 #define TILE 1024
 #define NSCATTER 1000000
 
 static double now_s(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static char *slurp(const char *path, size_t *len) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) free(buf), buf = NULL;
-    fclose(f);
-    if (buf) buf[n] = 0, *len = (size_t)n;
-    return buf;
+    return bench_clock_s(CLOCK_MONOTONIC);
 }
 
 static long peak_rss_kb(void) {
@@ -164,7 +150,7 @@ static double flagged_build(const char *dir, const char *name, double *mesh_s) {
     char path[1024];
     size_t len;
     snprintf(path, sizeof path, "%s/%s.flags.json", dir, name);
-    char *json = slurp(path, &len);
+    char *json = bench_slurp(path, &len);
     if (!json) return NAN;
     built b;
     double t[4];
@@ -271,7 +257,7 @@ static double agree_scipy(const char *dir, const char *name, const built *b, con
     char path[1024];
     size_t len;
     snprintf(path, sizeof path, "%s/%s.scipy_vals.f64", dir, name);
-    char *raw = slurp(path, &len);
+    char *raw = bench_slurp(path, &len);
     if (!raw) return NAN;
     size_t n = len / sizeof(double);
     double *v = malloc(n * sizeof *v), worst = 0;
@@ -290,9 +276,9 @@ static void bench_mesh(const char *dir, const char *name, const double *scatter,
     char path[1024];
     size_t len, len_nd;
     snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    char *json = slurp(path, &len);
+    char *json = bench_slurp(path, &len);
     snprintf(path, sizeof path, "%s/%s.noderiv.json", dir, name);
-    char *json_nd = slurp(path, &len_nd);
+    char *json_nd = bench_slurp(path, &len_nd);
     if (!json || !json_nd) {
         fprintf(stderr, "bench_perf: cannot read %s\n", path);
         exit(1);
@@ -382,7 +368,7 @@ int main(int argc, char **argv) {
     char path[1024];
     size_t len;
     snprintf(path, sizeof path, "%s/points.f64", argv[1]);
-    char *raw = slurp(path, &len);
+    char *raw = bench_slurp(path, &len);
     if (!raw || len < NSCATTER * 2 * sizeof(double)) {
         fprintf(stderr, "bench_perf: %s: missing or short\n", path);
         return 1;

@@ -23,6 +23,7 @@
 #include "core/locate.h"
 #include "io/request.h"
 #include "tocher.h"
+#include "benchio.h"
 
 #define NPTS 1000000
 #define REPS 5
@@ -32,22 +33,7 @@
 static int wall;
 
 static double now_s(void) {
-    struct timespec ts;
-    clock_gettime(wall ? CLOCK_MONOTONIC : CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static char *slurp(const char *path, size_t *len) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) free(buf), buf = NULL;
-    fclose(f);
-    if (buf) buf[n] = 0, *len = (size_t)n;
-    return buf;
+    return bench_clock_s(wall ? CLOCK_MONOTONIC : CLOCK_THREAD_CPUTIME_ID);
 }
 
 typedef struct {
@@ -96,7 +82,7 @@ static void bench_mesh(const char *dir, const char *name, const double *xy, int 
     char path[1024];
     size_t len;
     snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    char *json = slurp(path, &len);
+    char *json = bench_slurp(path, &len);
     tc_request *req = NULL;
     tc_mesh *m = NULL;
     tc_recon *r = NULL;
@@ -151,7 +137,7 @@ int main(int argc, char **argv) {
     char path[1024];
     size_t len;
     snprintf(path, sizeof path, "%s/points.f64", argv[1]);
-    char *raw = slurp(path, &len);
+    char *raw = bench_slurp(path, &len);
     if (!raw || len < NPTS * 2 * sizeof(double)) {
         fprintf(stderr, "bench_points: %s: missing or short\n", path);
         return 1;

@@ -19,30 +19,14 @@
 #include "core/recon.h"
 #include "io/request.h"
 #include "tocher.h"
+#include "benchio.h"
 
 static double now_s(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+    return bench_clock_s(CLOCK_MONOTONIC);
 }
 
 static double cpu_s(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static char *slurp(const char *path, size_t *len) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = n >= 0 ? malloc((size_t)n + 1) : NULL;
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) free(buf), buf = NULL;
-    fclose(f);
-    if (buf) buf[n] = 0, *len = (size_t)n;
-    return buf;
+    return bench_clock_s(CLOCK_PROCESS_CPUTIME_ID);
 }
 
 /* Best wall time of tc_render over at least 3 runs and 0.5 s; *cpu the CPU time (all threads)
@@ -95,7 +79,7 @@ static void build_best(const tc_request *req, int threads, double *val_s, double
 
 static int main_build(const char *path, const char *list) {
     size_t len;
-    char *json = slurp(path, &len);
+    char *json = bench_slurp(path, &len);
     tc_request *req = NULL;
     if (!json || tc_request_parse(json, len, TC_REQ_MESH, &req, NULL) != TC_REQ_OK) {
         fprintf(stderr, "%s: cannot parse\n", path);
@@ -130,7 +114,7 @@ int main(int argc, char **argv) {
     int32_t size = argc > 2 ? atoi(argv[2]) : 1024;
     const char *list = argc > 3 ? argv[3] : "1,2";
     size_t len;
-    char *json = slurp(argv[1], &len);
+    char *json = bench_slurp(argv[1], &len);
     tc_request *req = NULL;
     tc_mesh *m = NULL;
     tc_recon *r = NULL;
