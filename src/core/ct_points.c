@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/ct.h"
+#include "core/ct_lanes.h"
 #include "core/vec4.h"
 #include "core/ct_points.h"
 
@@ -55,20 +56,14 @@ INLINE void points_body(const tc__ct_lane *L, int nc, const uint8_t *floor0) {
         for (int j = 0; j < 10; j++)
             g[j] = (tc__v4d){o[0][tc__ct_sub[sub[0]][j]], o[1][tc__ct_sub[sub[1]][j]], o[2][tc__ct_sub[sub[2]][j]],
                          o[3][tc__ct_sub[sub[3]][j]]};
-        tc__v4d ref = tc__sel(r0, g[0], tc__sel(r1, g[1], g[2]));
-        tc__v4d b300 = g[0] - ref, b030 = g[1] - ref, b003 = g[2] - ref, b210 = g[3] - ref;
-        tc__v4d b120 = g[4] - ref, b201 = g[5] - ref, b021 = g[6] - ref, b102 = g[7] - ref;
-        tc__v4d b012 = g[8] - ref, b111 = g[9] - ref;
-        tc__v4d qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
-        tc__v4d qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
-        tc__v4d qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
-        tc__v4d v = ref + (A * qa + B * qb + C * qc);
+        tc__v4d q[3];
+        tc__v4d v = tc__ct_lanes_cubic(g, r0, r1, A, B, C, q);
         if (floor0[ch]) v = tc__sel(v < 0, (tc__v4d){0, 0, 0, 0}, v); /* tc__floored */
         for (int k = 0; k < 4; k++) L[k].v[ch] = v[k];
         if (!grads) continue;
         /* D[a] = 3 qa, D[b] = 3 qb, D[sub] = 3 (3 qc - qa - qb); lane by lane per sub:
          * sub 0: D = (Ds, Da, Db); sub 1: (Db, Ds, Da); sub 2: (Da, Db, Ds). */
-        tc__v4d Da = 3 * qa, Db = 3 * qb, Ds = 3 * (3 * qc - qa - qb);
+        tc__v4d Da = 3 * q[0], Db = 3 * q[1], Ds = 3 * (3 * q[2] - q[0] - q[1]);
         tc__v4d D0 = tc__sel(is0, Ds, tc__sel(is1, Db, Da)), D1 = tc__sel(is0, Da, tc__sel(is1, Ds, Db));
         tc__v4d D2 = tc__sel(is0, Db, tc__sel(is1, Da, Ds));
         tc__v4d dl10 = GATHER(L, dl1[0]), dl11 = GATHER(L, dl1[1]), dl20 = GATHER(L, dl2[0]), dl21 = GATHER(L, dl2[1]);

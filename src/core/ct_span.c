@@ -14,6 +14,7 @@
 
 #include "core/alloc.h"
 #include "core/ct.h"
+#include "core/ct_lanes.h"
 #include "core/vec4.h"
 
 typedef float v4f __attribute__((vector_size(16)));
@@ -38,14 +39,8 @@ INLINE tc__v4d cubic(const double *o, tc__v4i is0, tc__v4i is1, tc__v4i r0, tc__
     tc__v4d g[10];
     for (int k = 0; k < 10; k++)
         g[k] = tc__sel(is0, tc__splat(o[tc__ct_sub[0][k]]), tc__sel(is1, tc__splat(o[tc__ct_sub[1][k]]), tc__splat(o[tc__ct_sub[2][k]])));
-    tc__v4d ref = tc__sel(r0, g[0], tc__sel(r1, g[1], g[2]));
-    tc__v4d b300 = g[0] - ref, b030 = g[1] - ref, b003 = g[2] - ref, b210 = g[3] - ref;
-    tc__v4d b120 = g[4] - ref, b201 = g[5] - ref, b021 = g[6] - ref, b102 = g[7] - ref;
-    tc__v4d b012 = g[8] - ref, b111 = g[9] - ref;
-    tc__v4d qa = A * A * b300 + B * B * b120 + C * C * b102 + 2 * (A * B * b210 + A * C * b201 + B * C * b111);
-    tc__v4d qb = A * A * b210 + B * B * b030 + C * C * b012 + 2 * (A * B * b120 + A * C * b111 + B * C * b021);
-    tc__v4d qc = A * A * b201 + B * B * b021 + C * C * b003 + 2 * (A * B * b111 + A * C * b102 + B * C * b012);
-    return ref + (A * qa + B * qb + C * qc);
+    tc__v4d q[3];
+    return tc__ct_lanes_cubic(g, r0, r1, A, B, C, q);
 }
 
 INLINE void span_body(const tc__eval_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n,
