@@ -117,7 +117,7 @@ static double frame_aspect(const tc__eval_frame *f) {
 
 /* Where row y crosses the triangle, approximately: [*xl, *xr], or 0 if it
  * misses it. Only a starting guess (slopes rounded once per triangle);
- * classify() decides every pixel it touches. */
+ * the exact tests (classify_one, claim) decide every pixel it touches. */
 static inline void widen(double x, double *xl, double *xr) {
     *xl = x < *xl ? x : *xl; /* fmin/fmax are calls at -O2 */
     *xr = x > *xr ? x : *xr;
@@ -141,23 +141,6 @@ static inline int row_hull(const tri *tr, double y, double *xl, double *xr) {
 
 /* The same bound orient_sign (locate.c) certifies a floating-point sign with. */
 #define ORIENT_ERRBOUND ((3.0 + 16.0 * 0x1p-53) * 0x1p-53)
-
-/* What the strict rule says of one pixel centre: classify_lanes' test for one
- * lane, claim() where it cannot certify. Claims what it finds owned. */
-static int classify(const band *bd, const struct tc__slot *s, const double l[3], int32_t i, int32_t j, double y) {
-    double x = bd->jb->xs[i];
-    int certain_in = 1;
-    for (int k = 0; k < 3; k++) {
-        int n = k == 2 ? 0 : k + 1;
-        double r = (s->y[n] - s->y[k]) * (x - s->x[k]), det = l[k] - r;
-        if (!(fabs(det) >= ORIENT_ERRBOUND * (fabs(l[k]) + fabs(r)))) certain_in = 0;
-        else if (det < 0) return TC_SLOT_OUT;
-        else if (!(det > 0)) certain_in = 0;
-    }
-    if (!certain_in) return claim(bd, s, i, j, y);
-    own_row(bd, j)[i] = s->t;
-    return TC_SLOT_OWN;
-}
 
 /* Pixels [i, i + n) of a row, owned by t whose frame tr holds: each pixel as
  * tc_eval_triangle evaluates it (tc__frame_at and the method's eval;
@@ -284,11 +267,12 @@ static int edge_sign(const struct tc__slot *s, const double l[3], int k, double 
     return (det > 0) - (det < 0);
 }
 
-/* A pixel classify_lanes could not certify: tc__slot_test's answer from the
+/* One pixel's owner by the strict rule (a lane classify_lanes could not certify, or
+ * a pixel beyond the guess): tc__slot_test's answer from the
  * edges' exact signs where edge_sign knows them (zero: inside for an edge the
  * triangle lies left of, touching otherwise), claim() where it does not; the
  * claim made as claim() makes it. */
-static int on_edges(const band *bd, const struct tc__slot *s, const double l[3], int32_t i, int32_t j, double y) {
+static int classify_one(const band *bd, const struct tc__slot *s, const double l[3], int32_t i, int32_t j, double y) {
     int hit = TC_SLOT_OWN;
     for (int k = 0; k < 3; k++) {
         int sg = edge_sign(s, l, k, bd->jb->xs[i], y);
@@ -325,7 +309,7 @@ TC__V4_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, doub
     unsigned unsure = valid & ~(*inb | *outb);
     for (int q = 0; unsure; q++, unsure >>= 1) { /* on an edge, or too close to say */
         if (!(unsure & 1u)) continue;
-        int h = on_edges(bd, s, l, i + q, j, y);
+        int h = classify_one(bd, s, l, i + q, j, y);
         if (h == TC_SLOT_OWN) *inb |= 1u << q;
         else if (h == TC_SLOT_OUT) *outb |= 1u << q;
     }
@@ -402,9 +386,9 @@ TC__V4_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int3
     row_lanes(bd, tr, j, y, l, lo, hi, &first_out, &last_out);
     int32_t a = lo, b = hi;
     if (!first_out)
-        while (a > i0 && classify(bd, s, l, a - 1, j, y) != TC_SLOT_OUT) a--;
+        while (a > i0 && classify_one(bd, s, l, a - 1, j, y) != TC_SLOT_OUT) a--;
     if (!last_out)
-        while (b < i1 && classify(bd, s, l, b + 1, j, y) != TC_SLOT_OUT) b++;
+        while (b < i1 && classify_one(bd, s, l, b + 1, j, y) != TC_SLOT_OUT) b++;
     if (!tr->fast) shade_pixels(bd, tr, j, y, a, b);
     else {
         if (a < lo) shade_pixels(bd, tr, j, y, a, lo - 1);
