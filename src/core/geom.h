@@ -71,7 +71,8 @@ typedef struct {
     double dl1[2], dl2[2];
 } tc__eval_frame;
 
-static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
+/* The part of the frame the renderer's fast cubic reads (ct_fast.h): corners, edges, inv_a. */
+static inline void tc__frame_corners(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
     TC_ASSERT(t >= 0 && t < m->nt && f);
     const int32_t *v = m->tri + 3 * (size_t)t;
     for (int i = 0; i < 3; i++) {
@@ -80,11 +81,18 @@ static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame 
     }
     for (int i = 0; i < 3; i++) {
         const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
-        double ca[2], cb[2];
+        double ca[2];
         tc__sub(f->e[i], b, a);
         tc__sub(ca, f->p[i], a);
-        tc__sub(cb, f->p[i], b);
         f->inv_a[i] = 1 / tc__cross(f->e[i], ca);
+    }
+}
+
+static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
+    tc__frame_corners(m, t, f);
+    for (int i = 0; i < 3; i++) {
+        double cb[2];
+        tc__sub(cb, f->p[i], f->p[(i + 2) % 3]);
         f->inv_b[i] = 1 / tc__cross(f->e[i], cb);
     }
     double e1[2], e2[2];

@@ -90,31 +90,6 @@ typedef struct {
     tc__ct_fast ff;
 } tri;
 
-/* The part of tc__frame (geom.h) the fast form reads — corners, edges, inv_a —
- * computed as it computes them. */
-static void corner_frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
-    const int32_t *v = m->tri + 3 * (size_t)t;
-    for (int i = 0; i < 3; i++) {
-        const double *q = tc__vxy(m, v[i]);
-        f->p[i][0] = q[0], f->p[i][1] = q[1];
-    }
-    for (int i = 0; i < 3; i++) {
-        const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
-        double ca[2];
-        tc__sub(f->e[i], b, a);
-        tc__sub(ca, f->p[i], a);
-        f->inv_a[i] = 1 / tc__cross(f->e[i], ca);
-    }
-}
-
-/* Longest edge squared over twice the area (tc__face_aspect's measure); NaN or
- * infinite for a degenerate frame, which then fails every <= test. */
-static double frame_aspect(const tc__eval_frame *f) {
-    double longest = 0;
-    for (int q = 0; q < 3; q++) longest = fmax(longest, f->e[q][0] * f->e[q][0] + f->e[q][1] * f->e[q][1]);
-    return longest / fabs(tc__cross(f->e[0], f->e[1]));
-}
-
 /* Where row y crosses the triangle, approximately: [*xl, *xr], or 0 if it
  * misses it. Only a starting guess (slopes rounded once per triangle);
  * the exact tests (classify_one, claim) decide every pixel it touches. */
@@ -435,8 +410,8 @@ static void cover(void *ctx, const struct tc__slot *s) {
     int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
     tr.fast = 0;
     if (jb->r->eval == tc__ct_eval && box >= 16) {
-        corner_frame(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
-        tr.fast = frame_aspect(&tr.f) <= TC__CT_FAST_ASPECT;
+        tc__frame_corners(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
+        tr.fast = tc__face_aspect(jb->r->m, s->t) <= TC__CT_FAST_ASPECT;
     }
     if (tr.fast)
         tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->r->m->nc * (size_t)jb->r->ncoef,
