@@ -4,6 +4,7 @@
 #include "io/base64.h"
 #include "io/jsonout.h"
 #include "io/numfmt.h"
+#include "io/textpar.h"
 #include "core/alloc.h"
 
 #include <math.h>
@@ -57,7 +58,7 @@ static void typed_ordinates(tc_strbuf *b, const tc_recon *r) {
     }
     tc_json_typed_open(b, shape, 3);
     if (identity_numbering(m, ngiven)) {
-        tc_base64_append(b, tc_recon_coefs(r), bytes);
+        tc__base64_append_parallel(b, tc_recon_coefs(r), bytes, tc_recon_options(r)->threads);
     } else {
         double *x = malloc(STAGE_ROWS * row * sizeof *x);
         if (!x) {
@@ -83,6 +84,38 @@ static size_t json_ordinates_bound(size_t ngiven, size_t nc, size_t nk) {
     return ngiven > (SIZE_MAX - 16) / per_row ? SIZE_MAX : ngiven * per_row + 16;
 }
 
+/* Rows (given triangles) per part of the threaded printing: a part's thread costs tens of
+ * microseconds to wake, a row's text about one microsecond to print. */
+enum { ORDS_MIN_PART = 2048 };
+
+typedef struct {
+    const tc_recon *r;
+    const double *coef;
+    int nc, nk;
+} ords_ctx;
+
+/* Given triangles [lo, hi) of the JSON "ordinates", in the request's numbering: each
+ * row's text depends on its triangle alone (and on whether it is row 0), so the parts
+ * join into the text one thread prints (tc__text_parallel's rule). */
+static void json_rows(tc_strbuf *b, void *ctx, int32_t lo, int32_t hi) {
+    const ords_ctx *c = ctx;
+    const tc_mesh *m = tc_recon_mesh(c->r);
+    for (int32_t i = lo; i < hi && !b->oom; i++) { /* null where dropped */
+        int32_t t = tc_mesh_triangle_of_given(m, i);
+        tc_strbuf_puts(b, i ? ",\n" : "\n");
+        if (t < 0) {
+            tc_strbuf_puts(b, "null");
+            continue;
+        }
+        tc_strbuf_putc(b, '[');
+        for (int ch = 0; ch < c->nc; ch++) {
+            if (ch) tc_strbuf_putc(b, ',');
+            tc_json_numbers(b, c->coef + tc__ix(t, c->nc, ch) * (size_t)c->nk, c->nk);
+        }
+        tc_strbuf_putc(b, ']');
+    }
+}
+
 void tc_json_ordinates_enc(tc_strbuf *b, const tc_recon *r, int base64) {
     const tc_mesh *m = tc_recon_mesh(r);
     int nc = tc_mesh_channel_count(m), nk = tc_recon_coef_count(r);
@@ -106,21 +139,9 @@ void tc_json_ordinates_enc(tc_strbuf *b, const tc_recon *r, int base64) {
         return;
     }
     tc_strbuf_putc(b, '[');
-    const double *coef = tc_recon_coefs(r);
-    for (int32_t i = 0; i < ngiven && !b->oom; i++) { /* the request's numbering: null where dropped */
-        int32_t t = tc_mesh_triangle_of_given(m, i);
-        tc_strbuf_puts(b, i ? ",\n" : "\n");
-        if (t < 0) {
-            tc_strbuf_puts(b, "null");
-            continue;
-        }
-        tc_strbuf_putc(b, '[');
-        for (int ch = 0; ch < nc; ch++) {
-            if (ch) tc_strbuf_putc(b, ',');
-            tc_json_numbers(b, coef + tc__ix(t, nc, ch) * (size_t)nk, nk);
-        }
-        tc_strbuf_putc(b, ']');
-    }
+    ords_ctx c = {r, tc_recon_coefs(r), nc, nk};
+    size_t per_row = json_ordinates_bound(1, (size_t)nc, (size_t)nk);
+    tc__text_parallel(b, ngiven, tc_recon_options(r)->threads, ORDS_MIN_PART, per_row, json_rows, &c);
     tc_strbuf_puts(b, "\n]");
 }
 
