@@ -222,22 +222,22 @@ size_t tc_fmt_double(char out[TC_FMT_DOUBLE_SIZE], double x) {
     out[0] = '-';                            /* kept only for a negative x, -0.0 too ("-0"); */
     size_t n = signbit(x) != 0;              /* no branch: random signs mispredict */
     double ax = fabs(x);
-    /* An integer below 2^53? t = min(ax, 2^53) keeps the conversion defined, and the
-     * two tests are joined with & (no branch on ax < 2^53, a coin toss on random
-     * doubles); int64_t: one conversion instruction, unlike uint64_t. */
-    uint64_t bits, lim = UINT64_C(0x4340000000000000), tb; /* lim: the bits of 2^53 */
+    uint64_t bits;
     memcpy(&bits, &ax, sizeof bits);
-    tb = bits < lim ? bits : lim;            /* ax >= 0: bits order as values do */
-    double t;
-    memcpy(&t, &tb, sizeof t);
-    int64_t i = (int64_t)t;
-    if ((bits < lim) & ((double)i == t)) {
-        n += put_integer(out + n, (uint64_t)i);
+    uint64_t frac = bits & ((UINT64_C(1) << 52) - 1);
+    int be = (int)(bits >> 52);              /* ax is finite: 0 <= be <= 2046 */
+    uint64_t normal = be != 0;               /* subnormal: c = frac, q = -1074 */
+    uint64_t c = frac | normal << 52;        /* ax = c * 2^q */
+    int q = be - 1075 + (int)!normal;
+    /* An integer below 2^53: 1 <= ax < 2^53 has sh = -q in [0, 52] bits after the point,
+     * all zero; or ax = 0 (c = 0). Tested on the bits, not by converting to an integer and
+     * back (a chain of conversions on every number that cost a sixth of the printer). */
+    unsigned sh = (unsigned)-q;
+    uint64_t below = c & ((UINT64_C(1) << (sh & 63)) - 1);
+    if (((sh <= 52) & (below == 0)) | (c == 0)) {
+        n += put_integer(out + n, c >> (sh & 63));
     } else {
-        uint64_t frac = bits & ((UINT64_C(1) << 52) - 1);
-        int be = (int)(bits >> 52);          /* ax > 0 is finite: 0 <= be <= 2046 */
-        uint64_t normal = be != 0;           /* subnormal: c = frac, q = -1074 */
-        decimal d = schubfach(frac | normal << 52, be - 1075 + (int)!normal, frac == 0 && be > 1);
+        decimal d = schubfach(c, q, frac == 0 && be > 1);
         n += put_g(out + n, d.m, d.e10);
     }
     out[n] = '\0';

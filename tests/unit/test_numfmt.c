@@ -303,6 +303,15 @@ TEST(numfmt_integers_match_reference) {
         check_value((double)(r >> 1), 1);                        /* above 2^53 */
     }
     for (int d = -64; d <= 64; d++) check_both_signs(9007199254740992.0 + 2 * d);
+    /* the integer test reads the bits after the point: in each binade up to 2^53 the
+     * values one fraction bit, one ulp and one half away from an integer */
+    for (int e = 0; e <= 54; e++) {
+        double x = ldexp(1.0, e);
+        check_both_signs(x + 0.5), check_both_signs(x - 0.5), check_both_signs(x - 1), check_both_signs(x + 1);
+        check_both_signs(nextafter(x, INFINITY)), check_both_signs(nextafter(x + 1, INFINITY));
+        check_both_signs(nextafter(x, 0)), check_both_signs(nextafter(x - 1, 0));
+    }
+    check_both_signs(0.0), check_both_signs(0.25), check_both_signs(1e-300);
 }
 
 /* Results of arithmetic, short ("nice") decimals, and exact ties at each precision. */
