@@ -17,7 +17,7 @@
  * TLB. Advice only: a kernel without transparent huge pages (or with them
  * "never") refuses it and the pages stay small. Memory not yet touched is what
  * gets huge pages: the advice comes before the array's first write. */
-static void advise(void *p, size_t bytes) {
+void tc__advise_huge(void *p, size_t bytes) {
 #ifdef MADV_HUGEPAGE
     uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
     uintptr_t hi = ((uintptr_t)p + bytes) & ~(uintptr_t)(HUGE_PAGE - 1);
@@ -31,12 +31,12 @@ void *tc__malloc_huge(size_t bytes) {
     size_t rounded = (bytes + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1); /* aligned_alloc: a multiple of the alignment */
     void *p = rounded >= bytes ? aligned_alloc(HUGE_PAGE, rounded) : NULL;
     if (!p) p = malloc(bytes);
-    else advise(p, rounded);
+    else tc__advise_huge(p, rounded);
     return p;
 }
 
 void *tc__calloc_huge(size_t bytes) {
     void *p = calloc(1, bytes); /* calloc, not an aligned block cleared here: fresh pages come zeroed */
-    if (p) advise(p, bytes);    /* (the whole huge pages inside it; calloc has not touched them when fresh) */
+    if (p) tc__advise_huge(p, bytes); /* (the whole huge pages inside it; calloc has not touched them when fresh) */
     return p;
 }

@@ -15,6 +15,9 @@
 #endif
 void *tc__malloc_huge(size_t bytes);
 void *tc__calloc_huge(size_t bytes);
+/* The advice alone, for a block allocated elsewhere (io/hugemem.c's buffers): the whole
+ * huge pages inside [p, p + bytes) are to be backed by huge pages. Changes no byte. */
+void tc__advise_huge(void *p, size_t bytes);
 
 /* n zeroed elements of size sz; NULL when n * sz overflows. */
 static inline void *tc__calloc(size_t n, size_t sz) {
