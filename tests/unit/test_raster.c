@@ -441,6 +441,41 @@ TEST(raster_centres_exactly_on_vertices_and_edges) {
     scene_free(&s);
 }
 
+/* Pixel centres on the diagonals and edges of an unjittered grid, the case raster.c's
+ * row runs settle from four lanes (an owned or touching lane at a run's end, the exact
+ * signs of lanes on an edge, four at a time) and a tile whose first and last columns
+ * cut triangles (the run clipped there): lattices of 2..12 pixels per cell in both
+ * diagonal directions, shifted by whole and half pixels, one mesh translated far from
+ * the origin (differences round: the exact test decides), thread counts 1 and 3. */
+TEST(raster_runs_on_lattice_edges) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 33);
+    for (int k = 0; k < 12; k++) {
+        scene s;
+        int n = 3 + k % 4, per = 2 + k, diag = k % 2 ? 1 : -1;
+        double far = k == 11 ? 1e6 + 0.5 : 0;
+        tmesh_grid(&s.g, n, n, 0, diag, &rng);
+        for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] += far, s.g.xy[2 * v + 1] += far;
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        s.m = tmesh_build(&s.g);
+        s.r = NULL, s.L = NULL;
+        if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
+        if (s.m) CHECK(tc_locator_new(s.m, &s.L) == TC_OK);
+        if (!s.r) {
+            scene_free(&s);
+            continue;
+        }
+        double h = 1.0 / (n * per), shift = k % 3 == 0 ? 0 : k % 3 == 1 ? 0.5 * h : h;
+        int w = n * per + 1;
+        tc_viewport vp = {far - 0.5 * h + shift, far - 0.5 * h, far + (w - 0.5) * h + shift, far + (w - 0.5) * h, w, w};
+        check_tile(&s, &vp, 1 + 2 * (k % 2));
+        tc_viewport inner = {far + 0.3 - 0.5 * h, far + 0.2 - 0.5 * h, far + 0.3 + (w / 2 - 0.5) * h,
+                             far + 0.2 + (w / 2 - 0.5) * h, w / 2, w / 2}; /* columns cut triangles */
+        check_tile(&s, &inner, 1);
+        scene_free(&s);
+    }
+}
+
 /* tc_eval_points visits large batches in Z order: every result must still be
  * the one tc_locate + tc_eval_triangle give for that point, bit for bit,
  * including points outside the mesh and duplicated points. */
