@@ -5,6 +5,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,6 +35,7 @@ typedef struct {
     const double *xs; /* [width] pixel-centre x of each column, as tc_viewport_pixel_center gives it */
     const double *ys; /* [rows] pixel-centre y of each row rendered (from row0), likewise */
     int32_t row0, rows; /* the rows rendered: [row0, row0 + rows) of vp, stored from values/owner's row 0 */
+    int grain_lo, grain_hi; /* every centre of xs and ys a multiple of 2^grain_lo, below 2^grain_hi in magnitude */
     int32_t nbands;
     atomic_int next_band;
     atomic_int timed_out;
@@ -88,6 +90,7 @@ typedef struct {
     tc__eval_frame f;
     double slope[3]; /* dx/dy of edge k -> k+1 (row_hull's guess) */
     double dy[3];    /* y[k+1] - y[k], as orient_sign computes it */
+    int exact;       /* every orientation at a centre of the tile is computed exactly (lattice) */
     int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff is set */
     tc__ct_fast ff;
 } tri;
@@ -231,6 +234,36 @@ static inline int tame(double v) {
     return a == 0 || (a >= 0x1p-400 && a <= 0x1p400);
 }
 
+/* Widens [*lo, *hi] so that v is a multiple of 2^*lo and |v| < 2^*hi; a subnormal
+ * (or non-finite) v makes the range hopeless (lattice_exact then says no). */
+static void widen_grain(double v, int *lo, int *hi) {
+    if (v == 0) return;
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    int ex = (int)(u >> 52 & 0x7ff);
+    if (ex == 0 || ex == 0x7ff) {
+        *lo = INT32_MIN / 2;
+        return;
+    }
+    uint64_t m = (u & ((UINT64_C(1) << 52) - 1)) | UINT64_C(1) << 52;
+    int g = ex - 1075 + __builtin_ctzll(m), e = ex - 1022; /* |v| < 2^e */
+    if (g < *lo) *lo = g;
+    if (e > *hi) *hi = e;
+}
+
+/* Whether every orientation l - r = (x[k+1] - x[k]) (y - y[k]) - (y[k+1] - y[k]) (x - x[k])
+ * of the triangle at a centre of the tile is computed exactly: all its operands are
+ * integer multiples of 2^g below 2^E in magnitude (the corners' and the centres' range
+ * together), so each difference is a multiple of 2^g below 2^(E+1), each product a
+ * multiple of 2^2g below 2^(2E+2), l - r one below 2^(2E+3): an integer below 2^53
+ * times 2^2g when E - g <= 25, exact, and no product underflows while 2g >= -1022.
+ * A lattice of centres on a mesh of dyadic vertices (a grid) is the common case. */
+static int lattice_exact(const job *jb, const struct tc__slot *s) {
+    int lo = jb->grain_lo, hi = jb->grain_hi;
+    for (int k = 0; k < 3; k++) widen_grain(s->x[k], &lo, &hi), widen_grain(s->y[k], &lo, &hi);
+    return lo >= -500 && hi <= 500 && hi - lo <= 25;
+}
+
 /* The sign (-1, 0, 1) of edge k's orientation at (x, y), computed as orient_sign
  * computes it: certified by its bound, or else exact because nothing rounded
  * (each difference checked by TwoSum, each product by fma, the difference of
@@ -306,6 +339,19 @@ TC__V4_INLINE void classify_at(const band *bd, const tri *tr, int32_t j, double 
     const struct tc__slot *s = tr->s;
     tc__v4i in = {-1, -1, -1, -1}, out = {0, 0, 0, 0}, cert[3];
     tc__v4d det[3], r[3];
+    if (tr->exact) { /* lattice_exact: each computed sign is the exact one */
+        for (int e = 0; e < 3; e++) {
+            tc__v4d d = tc__splat(l[e]) - tc__splat(tr->dy[e]) * (x - tc__splat(s->x[e]));
+            in &= s->left >> e & 1u ? d >= tc__splat(0) : d > tc__splat(0);
+            out |= d < tc__splat(0);
+        }
+        *inb = tc__mask4(in) & valid, *outb = tc__mask4(out) & valid;
+        for (unsigned touch = valid & ~(*inb | *outb); touch; touch &= touch - 1) { /* claimed as claim() does */
+            int32_t *slot = &own_row(bd, j)[idx[__builtin_ctz(touch)]];
+            if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
+        }
+        return;
+    }
     for (int e = 0; e < 3; e++) {
         r[e] = tc__splat(tr->dy[e]) * (x - tc__splat(s->x[e])), det[e] = tc__splat(l[e]) - r[e];
         cert[e] = vabs(det[e]) >= tc__splat(ORIENT_ERRBOUND) * (tc__splat(al[e]) + vabs(r[e]));
@@ -552,6 +598,7 @@ static void cover(void *ctx, const struct tc__slot *s) {
         tr.slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
         tr.dy[k] = s->y[n] - s->y[k];
     }
+    tr.exact = lattice_exact(jb, s);
     /* The fast form costs ~30 operations per channel to set up: not worth it for a
      * triangle that covers a few pixels of the band (a 524k mesh on a 1024² tile). */
     int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
@@ -675,7 +722,11 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     double unused;
     for (int32_t i = 0; i < vp->width; i++) tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
     for (int32_t j = 0; j < rows; j++) tc_viewport_pixel_center(vp, 0, ropt->row0 + j, &unused, &ys[j]);
-    job jb = {r, L, vp, ropt, values, owner, xs, ys, ropt->row0, rows, (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
+    int grain_lo = INT32_MAX / 2, grain_hi = INT32_MIN / 2;
+    for (int32_t i = 0; i < vp->width; i++) widen_grain(xs[i], &grain_lo, &grain_hi);
+    for (int32_t j = 0; j < rows; j++) widen_grain(ys[j], &grain_lo, &grain_hi);
+    job jb = {r, L, vp, ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
+              (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     free(xs), free(ys);
     return atomic_load(&jb.no_memory) ? TC_ENOMEM : atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;

@@ -444,16 +444,19 @@ TEST(raster_centres_exactly_on_vertices_and_edges) {
 /* Pixel centres on the diagonals and edges of an unjittered grid, the case raster.c's
  * row runs settle from four lanes (an owned or touching lane at a run's end, the exact
  * signs of lanes on an edge, four at a time) and a tile whose first and last columns
- * cut triangles (the run clipped there): lattices of 2..12 pixels per cell in both
+ * cut triangles (the run clipped there): dyadic lattices (4 or 8 cells, 2..16 pixels
+ * per cell: every orientation computed exactly, raster.c's lattice_exact) and others
+ * (3..6 cells, 2..9 pixels: signs certified, or exact because nothing rounded), both
  * diagonal directions, shifted by whole and half pixels, one mesh translated far from
  * the origin (differences round: the exact test decides), thread counts 1 and 3. */
 TEST(raster_runs_on_lattice_edges) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 33);
-    for (int k = 0; k < 12; k++) {
+    for (int k = 0; k < 20; k++) {
         scene s;
-        int n = 3 + k % 4, per = 2 + k, diag = k % 2 ? 1 : -1;
-        double far = k == 11 ? 1e6 + 0.5 : 0;
+        int dyadic = k < 8, n = dyadic ? 4 << (k % 2) : 3 + k % 4, per = dyadic ? 2 << (k / 2 % 4) : 2 + k % 8;
+        int diag = k % 3 == 2 ? -1 : k % 3;
+        double far = k == 19 ? 1e6 + 0.5 : 0;
         tmesh_grid(&s.g, n, n, 0, diag, &rng);
         for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] += far, s.g.xy[2 * v + 1] += far;
         tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
@@ -466,8 +469,11 @@ TEST(raster_runs_on_lattice_edges) {
             continue;
         }
         double h = 1.0 / (n * per), shift = k % 3 == 0 ? 0 : k % 3 == 1 ? 0.5 * h : h;
-        int w = n * per + 1;
+        int w = n * per; /* centres exactly at i h + shift: on the lattice for dyadic h */
         tc_viewport vp = {far - 0.5 * h + shift, far - 0.5 * h, far + (w - 0.5) * h + shift, far + (w - 0.5) * h, w, w};
+        double cx, cy;
+        tc_viewport_pixel_center(&vp, 3, w - 1 - 5, &cx, &cy);
+        if (dyadic) CHECK(cx == 3 * h + shift && cy == 5 * h);
         check_tile(&s, &vp, 1 + 2 * (k % 2));
         tc_viewport inner = {far + 0.3 - 0.5 * h, far + 0.2 - 0.5 * h, far + 0.3 + (w / 2 - 0.5) * h,
                              far + 0.2 + (w / 2 - 0.5) * h, w / 2, w / 2}; /* columns cut triangles */
