@@ -591,6 +591,12 @@ static void cover(void *ctx, const struct tc__slot *s) {
     if (j0 < bd->j0) j0 = bd->j0;
     if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
     if (i0 > i1 || j0 > j1) return;
+    /* The rows are widened by a pixel for rounding: a band often gets a triangle that
+     * only its neighbour's rows cross. No centre y within [ymin, ymax] (exact
+     * comparisons): no row of this band meets the closed triangle, so nothing to set up. */
+    int32_t jm = j0;
+    while (jm <= j1 && !(jb->ys[jm - jb->row0] >= ymin && jb->ys[jm - jb->row0] <= ymax)) jm++;
+    if (jm > j1) return;
     tri tr;
     tr.s = s;
     for (int k = 0; k < 3; k++) {
