@@ -17,8 +17,7 @@
 #include "core/mesh.h"
 #include "core/recon.h"
 
-#define BAND_ROWS 16
-/* rows per unit of work: small enough to balance threads */
+#define BAND_ROWS 16 /* rows per unit of work: small enough to balance threads */
 
 void tc_viewport_pixel_center(const tc_viewport *vp, int32_t i, int32_t j, double *x, double *y) {
     *x = vp->x0 + (vp->x1 - vp->x0) * ((i + 0.5) / vp->width);
