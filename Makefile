@@ -126,6 +126,9 @@ $(BUILD)/bench_numfmt: $(call obj,bench/perf/numfmt.c bench/perf/numfmt_cascade.
 # libcjson.so.1, nothing else.
 $(BUILD)/bench_scaling: $(call obj,bench/perf/scaling.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(CJSON_LIBS) -lm -lpthread -ldl -o $@
+# A tile's pixels against /v1/evaluate's values and owners (bench/perf/tile_error.c).
+$(BUILD)/bench_tile_error: $(call obj,bench/perf/tile_error.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(CJSON_LIBS) -lm -lpthread -ldl -o $@
 
 bench: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt $(BUILD)/bench_scaling \

@@ -76,13 +76,25 @@ TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double K[3], t
         for (int ch = 0; ch < ff->nc; ch++) v[ch] = tc__ct_fast_cubic(ff->c[ch][s], ff->base[ch], mono);
         return;
     }
-    tc__v4d m0[TC__NMONO], m1[TC__NMONO], m2[TC__NMONO]; /* lanes on both sides of an inner edge */
-    tc__ct_fast_monomials(0, lam, m0), tc__ct_fast_monomials(1, lam, m1), tc__ct_fast_monomials(2, lam, m2);
+    /* Lanes on both sides of an inner edge: each lane's own subtriangle's barycentrics and
+     * coefficients selected (exact), then the operations tc__ct_fast_monomials and
+     * tc__ct_fast_cubic perform for it, in their order: the same bits as a lane of a
+     * group that shares one subtriangle, for one evaluation instead of three. */
+    tc__v4d ls = tc__sel(is0, lam[0], tc__sel(is1, lam[1], lam[2]));
+    tc__v4d la = tc__sel(is0, lam[1], tc__sel(is1, lam[2], lam[0]));
+    tc__v4d lb = tc__sel(is0, lam[2], tc__sel(is1, lam[0], lam[1]));
+    tc__v4d A = la - ls, B = lb - ls, C = tc__splat(3) * ls;
+    tc__v4d AA = A * A, BB = B * B, CC = C * C, m[TC__NMONO];
+    m[TC__M_AAA] = AA * A, m[TC__M_BBB] = BB * B;
+    m[TC__M_AAB] = AA * B, m[TC__M_ABB] = A * BB, m[TC__M_AAC] = AA * C;
+    m[TC__M_BBC] = BB * C, m[TC__M_ACC] = A * CC, m[TC__M_BCC] = B * CC, m[TC__M_ABC] = A * B * C;
     for (int ch = 0; ch < ff->nc; ch++) {
-        tc__v4d v0 = tc__ct_fast_cubic(ff->c[ch][0], ff->base[ch], m0);
-        tc__v4d v1 = tc__ct_fast_cubic(ff->c[ch][1], ff->base[ch], m1);
-        tc__v4d v2 = tc__ct_fast_cubic(ff->c[ch][2], ff->base[ch], m2);
-        v[ch] = tc__sel(is0, v0, tc__sel(is1, v1, v2));
+        tc__v4d c[TC__NMONO];
+        for (int k = 0; k < TC__NMONO; k++)
+            c[k] = tc__sel(is0, tc__splat(ff->c[ch][0][k]), tc__sel(is1, tc__splat(ff->c[ch][1][k]), tc__splat(ff->c[ch][2][k])));
+        tc__v4d p0 = c[0] * m[0] + c[1] * m[1], p1 = c[2] * m[2] + c[3] * m[3];
+        tc__v4d p2 = c[4] * m[4] + c[5] * m[5], p3 = c[6] * m[6] + c[7] * m[7];
+        v[ch] = tc__splat(ff->base[ch]) + (((p0 + p1) + (p2 + p3)) + c[8] * m[8]);
     }
 }
 

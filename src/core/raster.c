@@ -5,6 +5,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,6 +34,7 @@ typedef struct {
     const double *xs; /* [width] pixel-centre x of each column, as tc_viewport_pixel_center gives it */
     const double *ys; /* [rows] pixel-centre y of each row rendered (from row0), likewise */
     int32_t row0, rows; /* the rows rendered: [row0, row0 + rows) of vp, stored from values/owner's row 0 */
+    int grain_lo, grain_hi; /* every centre of xs and ys a multiple of 2^grain_lo, below 2^grain_hi in magnitude */
     int32_t nbands;
     atomic_int next_band;
     atomic_int timed_out;
@@ -86,6 +88,8 @@ typedef struct {
     const struct tc__slot *s;
     tc__eval_frame f;
     double slope[3]; /* dx/dy of edge k -> k+1 (row_hull's guess) */
+    double dy[3];    /* y[k+1] - y[k], as orient_sign computes it */
+    int exact;       /* every orientation at a centre of the tile is computed exactly (lattice) */
     int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff is set */
     tc__ct_fast ff;
 } tri;
@@ -197,6 +201,10 @@ TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], 
         v4f big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
         f = fsel(f < -big, -big, fsel(f > big, big, f)); /* as tile_float */
         if (jb->r->floor0[ch]) f = fsel(f < (v4f){0, 0, 0, 0}, (v4f){0, 0, 0, 0}, f); /* as tc__floored */
+        if (nc == 1 && mask == 15) { /* one channel, four pixels of the row, all stored */
+            memcpy(out, &f, sizeof f);
+            continue;
+        }
         if (nc == 1 && full) { /* one channel, four pixels of the row: blend in place */
             static const v4si lane[16] = {{0, 0, 0, 0},   {-1, 0, 0, 0},   {0, -1, 0, 0},   {-1, -1, 0, 0},
                                           {0, 0, -1, 0},  {-1, 0, -1, 0},  {0, -1, -1, 0},  {-1, -1, -1, 0},
@@ -223,6 +231,36 @@ static inline int diff_exact(double a, double b, double d) {
 static inline int tame(double v) {
     double a = fabs(v);
     return a == 0 || (a >= 0x1p-400 && a <= 0x1p400);
+}
+
+/* Widens [*lo, *hi] so that v is a multiple of 2^*lo and |v| < 2^*hi; a subnormal
+ * (or non-finite) v makes the range hopeless (lattice_exact then says no). */
+static void widen_grain(double v, int *lo, int *hi) {
+    if (v == 0) return;
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    int ex = (int)(u >> 52 & 0x7ff);
+    if (ex == 0 || ex == 0x7ff) {
+        *lo = INT32_MIN / 2;
+        return;
+    }
+    uint64_t m = (u & ((UINT64_C(1) << 52) - 1)) | UINT64_C(1) << 52;
+    int g = ex - 1075 + __builtin_ctzll(m), e = ex - 1022; /* |v| < 2^e */
+    if (g < *lo) *lo = g;
+    if (e > *hi) *hi = e;
+}
+
+/* Whether every orientation l - r = (x[k+1] - x[k]) (y - y[k]) - (y[k+1] - y[k]) (x - x[k])
+ * of the triangle at a centre of the tile is computed exactly: all its operands are
+ * integer multiples of 2^g below 2^E in magnitude (the corners' and the centres' range
+ * together), so each difference is a multiple of 2^g below 2^(E+1), each product a
+ * multiple of 2^2g below 2^(2E+2), l - r one below 2^(2E+3): an integer below 2^53
+ * times 2^2g when E - g <= 25, exact, and no product underflows while 2g >= -1022.
+ * A lattice of centres on a mesh of dyadic vertices (a grid) is the common case. */
+static int lattice_exact(const job *jb, const struct tc__slot *s) {
+    int lo = jb->grain_lo, hi = jb->grain_hi;
+    for (int k = 0; k < 3; k++) widen_grain(s->x[k], &lo, &hi), widen_grain(s->y[k], &lo, &hi);
+    return lo >= -500 && hi <= 500 && hi - lo <= 25;
 }
 
 /* The sign (-1, 0, 1) of edge k's orientation at (x, y), computed as orient_sign
@@ -261,33 +299,108 @@ static int classify_one(const band *bd, const struct tc__slot *s, const double l
     return hit;
 }
 
-/* Pixels [lo, hi] of row j, four at a time: each edge's orientation computed
- * as orient_sign computes it (from corner k: l - r, l = (x[k+1] - x[k])
- * (y - y[k]), r = (y[k+1] - y[k]) (x - x[k])) and its sign certified by the
- * same bound, so a lane certified inside (all three positive) or outside (one
- * negative) gets the exact answer without the exact test; the rest go to
- * claim(). Lanes inside are claimed and, for a fast triangle, shaded at once.
- * *first_out / *last_out: whether pixel lo / hi is out. */
-TC__V4_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3],
-                                    const double al[3], const double dy[3], int32_t i, int32_t k, tc__v4d x,
-                                    unsigned *inb, unsigned *outb) {
+/* The lane versions of tame and diff_exact, and whether the product p = a * b
+ * rounded nothing: Dekker's exact product (Veltkamp's split), exact without an FMA
+ * when neither factor's magnitude leaves [2^-400, 2^400] (tame: no overflow, no
+ * subnormal part), so the portable and AVX2 builds agree. */
+TC__V4_INLINE tc__v4i tame4(tc__v4d v) {
+    tc__v4d a = vabs(v);
+    return (a == tc__splat(0)) | ((a >= tc__splat(0x1p-400)) & (a <= tc__splat(0x1p400)));
+}
+
+TC__V4_INLINE tc__v4i diff_exact4(tc__v4d a, tc__v4d b, tc__v4d d) {
+    tc__v4d bb = d - a;
+    return (a - (d - bb)) + (-b - bb) == tc__splat(0);
+}
+
+TC__V4_INLINE tc__v4i prod_exact4(double a, tc__v4d b, tc__v4d p) {
+    const double split = 134217729.0; /* 2^27 + 1 */
+    double ta = a * split, ah = ta - (ta - a), alo = a - ah;
+    tc__v4d tb = b * tc__splat(split), bh = tb - (tb - b), blo = b - bh;
+    tc__v4d e = ((tc__splat(ah) * bh - p) + tc__splat(ah) * blo + tc__splat(alo) * bh) + tc__splat(alo) * blo;
+    return e == tc__splat(0);
+}
+
+/* Four pixels of row j, lane q the pixel idx[q] at centre x[q] (lanes not in `valid`
+ * ignored): each edge's orientation computed as orient_sign computes it (from corner
+ * k: l - r, l = (x[k+1] - x[k]) (y - y[k]), r = (y[k+1] - y[k]) (x - x[k])) and its
+ * sign certified by the same bound, so a lane certified inside (all three positive)
+ * or outside (one negative) gets the exact answer without the exact test. A lane not
+ * certified on some edge (a centre on an edge: a grid's diagonal) gets edge_sign's
+ * second answer, four lanes at a time: the computed sign is exact when nothing
+ * rounded (every difference checked by TwoSum, every product by Dekker's). Lanes
+ * still unknown go to classify_one. Every lane owned or touching is claimed as
+ * claim() claims it. *inb / *outb: the lanes strictly owned / outside the closed
+ * triangle (a lane in neither is a closed-only candidate). */
+TC__V4_INLINE void classify_at(const band *bd, const tri *tr, int32_t j, double y, const double l[3],
+                                 const double al[3], const int32_t idx[4], tc__v4d x, unsigned valid,
+                                 unsigned *inb, unsigned *outb) {
     const struct tc__slot *s = tr->s;
-    tc__v4i in = {-1, -1, -1, -1}, out = {0, 0, 0, 0};
-    for (int e = 0; e < 3; e++) {
-        tc__v4d r = tc__splat(dy[e]) * (x - tc__splat(s->x[e])), det = tc__splat(l[e]) - r;
-        tc__v4i cert = vabs(det) >= tc__splat(ORIENT_ERRBOUND) * (tc__splat(al[e]) + vabs(r));
-        in &= cert & (det > tc__splat(0));
-        out |= cert & (det < tc__splat(0));
+    tc__v4i in = {-1, -1, -1, -1}, out = {0, 0, 0, 0}, cert[3];
+    tc__v4d det[3], r[3];
+    if (tr->exact) { /* lattice_exact: each computed sign is the exact one */
+        for (int e = 0; e < 3; e++) {
+            tc__v4d d = tc__splat(l[e]) - tc__splat(tr->dy[e]) * (x - tc__splat(s->x[e]));
+            in &= s->left >> e & 1u ? d >= tc__splat(0) : d > tc__splat(0);
+            out |= d < tc__splat(0);
+        }
+        *inb = tc__mask4(in) & valid, *outb = tc__mask4(out) & valid;
+        for (unsigned touch = valid & ~(*inb | *outb); touch; touch &= touch - 1) { /* claimed as claim() does */
+            int32_t *slot = &own_row(bd, j)[idx[__builtin_ctz(touch)]];
+            if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
+        }
+        return;
     }
-    unsigned valid = (1u << k) - 1;
+    for (int e = 0; e < 3; e++) {
+        r[e] = tc__splat(tr->dy[e]) * (x - tc__splat(s->x[e])), det[e] = tc__splat(l[e]) - r[e];
+        cert[e] = vabs(det[e]) >= tc__splat(ORIENT_ERRBOUND) * (tc__splat(al[e]) + vabs(r[e]));
+        in &= cert[e] & (det[e] > tc__splat(0));
+        out |= cert[e] & (det[e] < tc__splat(0));
+    }
     *inb = tc__mask4(in) & valid, *outb = tc__mask4(out) & valid;
     unsigned unsure = valid & ~(*inb | *outb);
-    for (int q = 0; unsure; q++, unsure >>= 1) { /* on an edge, or too close to say */
+    if (!unsure) return;
+    tc__v4i known = {-1, -1, -1, -1}, neg = {0, 0, 0, 0}, touch = {0, 0, 0, 0}, none = {0, 0, 0, 0};
+    for (int e = 0; e < 3; e++) {
+        neg |= det[e] < tc__splat(0);
+        if (!(s->left >> e & 1u)) touch |= det[e] == tc__splat(0);
+        if ((tc__mask4(cert[e]) & unsure) == unsure) continue; /* known on this edge */
+        int n = e == 2 ? 0 : e + 1;
+        double a = s->x[n] - s->x[e], b = y - s->y[e], c = tr->dy[e];
+        int rows_ok = tame(a) && tame(b) && tame(c) && diff_exact(s->x[n], s->x[e], a) &&
+                      diff_exact(y, s->y[e], b) && diff_exact(s->y[n], s->y[e], c) &&
+                      (prod_exact4(a, tc__splat(b), tc__splat(l[e]))[0] != 0);
+        tc__v4i ok = none;
+        if (rows_ok) {
+            tc__v4d xk = tc__splat(s->x[e]), d = x - xk;
+            ok = tame4(d) & diff_exact4(x, xk, d) & prod_exact4(c, d, r[e]) &
+                 diff_exact4(tc__splat(l[e]), r[e], det[e]);
+        }
+        known &= cert[e] | ok;
+    }
+    unsigned kn = tc__mask4(known) & unsure, ng = tc__mask4(neg), tc = tc__mask4(touch);
+    for (int q = 0; unsure; q++, unsure >>= 1) {
         if (!(unsure & 1u)) continue;
-        int h = classify_one(bd, s, l, i + q, j, y);
+        int h;
+        if (kn >> q & 1u) {
+            h = ng >> q & 1u ? TC_SLOT_OUT : tc >> q & 1u ? TC_SLOT_TOUCH : TC_SLOT_OWN;
+            int32_t *slot = &own_row(bd, j)[idx[q]];
+            if (h == TC_SLOT_OWN) *slot = s->t;
+            else if (h == TC_SLOT_TOUCH && (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t))) *slot = -2 - s->t;
+        } else {
+            h = classify_one(bd, s, l, idx[q], j, y);
+        }
         if (h == TC_SLOT_OWN) *inb |= 1u << q;
         else if (h == TC_SLOT_OUT) *outb |= 1u << q;
     }
+}
+
+/* Pixels i .. i + k - 1 of row j (k <= 4), their centres x: classify_at's answer. */
+TC__V4_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3],
+                                    const double al[3], int32_t i, int32_t k, tc__v4d x, unsigned *inb,
+                                    unsigned *outb) {
+    const int32_t idx[4] = {i, i + 1, i + 2, i + 3};
+    classify_at(bd, tr, j, y, l, al, idx, x, (1u << k) - 1, inb, outb);
 }
 
 /* Pixel centres i .. i + k - 1 of the row (k <= 4); lanes beyond repeat the first. */
@@ -307,14 +420,14 @@ TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y,
     size_t row = (size_t)(j - jb->row0) * (size_t)jb->vp->width;
     int32_t *orow = own_row(bd, j);
     float *vrow = jb->values + row * (size_t)nc;
-    double K[3] = {0, 0, 0}, al[3], dy[3];
+    double K[3] = {0, 0, 0}, al[3];
     if (tr->fast) tc__ct_fast_row(&tr->ff, y, K);
-    for (int e = 0; e < 3; e++) al[e] = fabs(l[e]), dy[e] = s->y[e == 2 ? 0 : e + 1] - s->y[e];
+    for (int e = 0; e < 3; e++) al[e] = fabs(l[e]);
     /* The last four first: with an owned pixel there (b) and one in an earlier
      * four (a), every pixel between is owned (convexity) and needs no test. */
     int32_t ilast = lo + (hi - lo) / 4 * 4, klast = hi - ilast + 1, a = -1, b = -1;
     unsigned lin, lout;
-    classify_lanes(bd, tr, j, y, l, al, dy, ilast, klast, lanes_x(jb->xs, ilast, klast), &lin, &lout);
+    classify_lanes(bd, tr, j, y, l, al, ilast, klast, lanes_x(jb->xs, ilast, klast), &lin, &lout);
     for (int q = klast - 1; q >= 0 && b < 0; q--)
         if (lin >> q & 1u) b = ilast + q;
     for (int32_t i = lo; i <= hi; i += 4) {
@@ -323,7 +436,7 @@ TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y,
         unsigned inb, outb;
         if (i == ilast) inb = lin, outb = lout;
         else if (a >= 0 && b >= i + 3) inb = 15, outb = 0;
-        else classify_lanes(bd, tr, j, y, l, al, dy, i, k, x, &inb, &outb);
+        else classify_lanes(bd, tr, j, y, l, al, i, k, x, &inb, &outb);
         if (a < 0 && inb) a = i + __builtin_ctz(inb);
         if (inb == 15) {
             v4si t = {s->t, s->t, s->t, s->t};
@@ -336,6 +449,81 @@ TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y,
         if (i == lo) *first_out = outb & 1u;
         if (i + k - 1 == hi) *last_out = outb >> (k - 1) & 1u;
     }
+}
+
+/* Pixels [a, b] of row j, all strictly owned by the fast triangle tr: owners set and
+ * values stored, four at a time. A run that is not a multiple of four ends with the
+ * four pixels b - 3 .. b, recomputing some: a pixel's value depends only on the
+ * triangle, its row and its x (ct_fast.h), not on its lane. */
+TC__V4_INLINE void fill_run(const band *bd, const tri *tr, int32_t j, double y, int32_t a, int32_t b) {
+    const job *jb = bd->jb;
+    int nc = jb->r->m->nc;
+    int32_t *orow = own_row(bd, j), n = b - a + 1, t = tr->s->t;
+    float *vrow = jb->values + (size_t)(j - jb->row0) * (size_t)jb->vp->width * (size_t)nc;
+    double K[3];
+    tc__ct_fast_row(&tr->ff, y, K);
+    if (n < 4) {
+        for (int32_t i = a; i <= b; i++) orow[i] = t;
+        int full = a + 4 <= jb->vp->width;
+        store_lanes(jb, tr, K, lanes_x(jb->xs, a, n), (1u << n) - 1, full, vrow + (size_t)a * (size_t)nc);
+        return;
+    }
+    v4si tv = {t, t, t, t};
+    for (int32_t i = a;; i += 4) {
+        if (i > b - 3) i = b - 3;
+        memcpy(orow + i, &tv, sizeof tv);
+        tc__v4d x;
+        memcpy(&x, jb->xs + i, sizeof x);
+        store_lanes(jb, tr, K, x, 15, 1, vrow + (size_t)i * (size_t)nc);
+        if (i == b - 3) break;
+    }
+}
+
+/* Row j of a fast triangle tr from the guess [lo, hi] (hi - lo >= 2), settled by one
+ * four-lane classification of P0..P3 = lo, lo + 1, hi - 1, hi when the guess is right
+ * to a pixel. Each lane is owned (strictly), out (of the closed triangle) or touching
+ * (in the closed triangle, not owned: classify_one claimed it as a candidate). Facts:
+ * (1) the owned set and the closed triangle are convex (intersections of half-planes,
+ *     open or closed), and a row's centres are non-decreasing in x;
+ * (2) a point strictly between a closed point c and an owned point w is owned: each
+ *     edge's orientation is affine along the row, >= 0 at c, and > 0 at w, or 0 at w
+ *     (then the edge owns its points, and the orientation is >= 0 between, 0 only where
+ *     it owns them too).
+ * The run [a, b] (everything in it owned, by (1) or (2)):
+ *   left:  P0 out and P1 owned: a = lo + 1; P0 out, P1 touching, P2 owned and
+ *          x(P1) < x(lo + 2): a = lo + 2, by (2); lo = i0 (no column further left is
+ *          the triangle's) and P0 owned: a = lo, or P0 touching and P1 owned: a = lo + 1;
+ *   right: the mirror image (P3 out and P2 owned: b = hi - 1, ...).
+ * Nothing outside [a, b] in [i0, i1] is owned or touching but the lanes classify_one
+ * claimed: a closed pixel left of P0 out would put P0 between it and the closed P1.
+ * Returns 0 when the lanes fit none of these (the caller then classifies lane by lane). */
+TC__V4_INLINE int guessed_run(const band *bd, const tri *tr, int32_t j, double y, const double l[3], int32_t lo,
+                                int32_t hi, int32_t i0, int32_t i1) {
+    const double *xs = bd->jb->xs;
+    const int32_t idx[4] = {lo, lo + 1, hi - 1, hi};
+    tc__v4d x = {xs[lo], xs[lo + 1], xs[hi - 1], xs[hi]};
+    double al[3] = {fabs(l[0]), fabs(l[1]), fabs(l[2])};
+    unsigned in, out;
+    classify_at(bd, tr, j, y, l, al, idx, x, 15, &in, &out);
+    unsigned touch = 15u & ~(in | out);
+    int32_t a = -1, b = -1;
+    if (out & 1u) {
+        if (in & 2u) a = lo + 1;
+        else if ((touch & 2u) && (in & 4u) && lo + 2 <= hi - 1 && xs[lo + 1] < xs[lo + 2]) a = lo + 2;
+    } else if (lo == i0) {
+        if (in & 1u) a = lo;
+        else if ((touch & 1u) && (in & 2u)) a = lo + 1;
+    }
+    if (out & 8u) {
+        if (in & 4u) b = hi - 1;
+        else if ((touch & 4u) && (in & 2u) && hi - 2 >= lo + 1 && xs[hi - 2] < xs[hi - 1]) b = hi - 2;
+    } else if (hi == i1) {
+        if (in & 8u) b = hi;
+        else if ((touch & 8u) && (in & 4u)) b = hi - 1;
+    }
+    if (a < 0 || b < a) return 0;
+    fill_run(bd, tr, j, y, a, b);
+    return 1;
 }
 
 /* Row j of triangle tr within columns [i0, i1]: the pixels it contains, each
@@ -355,8 +543,11 @@ TC__V4_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int3
         int n = k == 2 ? 0 : k + 1;
         l[k] = (s->x[n] - s->x[k]) * (y - s->y[k]);
     }
-    double fa = floor((xl - vp->x0) * per_x - 0.5), fb = ceil((xr - vp->x0) * per_x - 0.5); /* a guess */
+    /* A guess, biased a little outward: a centre the edge runs through (a grid's
+     * diagonal) falls inside [lo, hi], the pixel beyond it outside, as guessed_run wants. */
+    double fa = floor((xl - vp->x0) * per_x - (0.5 + 0x1p-8)), fb = ceil((xr - vp->x0) * per_x - (0.5 - 0x1p-8));
     int32_t lo = fa < i0 ? i0 : fa > i1 ? i1 : (int32_t)fa, hi = fb > i1 ? i1 : fb < i0 ? i0 : (int32_t)fb;
+    if (tr->fast && hi - lo >= 2 && guessed_run(bd, tr, j, y, l, lo, hi, i0, i1)) return;
     int first_out = 1, last_out = 1;
     row_lanes(bd, tr, j, y, l, lo, hi, &first_out, &last_out);
     int32_t a = lo, b = hi;
@@ -399,12 +590,20 @@ static void cover(void *ctx, const struct tc__slot *s) {
     if (j0 < bd->j0) j0 = bd->j0;
     if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
     if (i0 > i1 || j0 > j1) return;
+    /* The rows are widened by a pixel for rounding: a band often gets a triangle that
+     * only its neighbour's rows cross. No centre y within [ymin, ymax] (exact
+     * comparisons): no row of this band meets the closed triangle, so nothing to set up. */
+    int32_t jm = j0;
+    while (jm <= j1 && !(jb->ys[jm - jb->row0] >= ymin && jb->ys[jm - jb->row0] <= ymax)) jm++;
+    if (jm > j1) return;
     tri tr;
     tr.s = s;
     for (int k = 0; k < 3; k++) {
         int n = k == 2 ? 0 : k + 1;
         tr.slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
+        tr.dy[k] = s->y[n] - s->y[k];
     }
+    tr.exact = lattice_exact(jb, s);
     /* The fast form costs ~30 operations per channel to set up: not worth it for a
      * triangle that covers a few pixels of the band (a 524k mesh on a 1024² tile). */
     int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
@@ -528,7 +727,11 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     double unused;
     for (int32_t i = 0; i < vp->width; i++) tc_viewport_pixel_center(vp, i, 0, &xs[i], &unused);
     for (int32_t j = 0; j < rows; j++) tc_viewport_pixel_center(vp, 0, ropt->row0 + j, &unused, &ys[j]);
-    job jb = {r, L, vp, ropt, values, owner, xs, ys, ropt->row0, rows, (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
+    int grain_lo = INT32_MAX / 2, grain_hi = INT32_MIN / 2;
+    for (int32_t i = 0; i < vp->width; i++) widen_grain(xs[i], &grain_lo, &grain_hi);
+    for (int32_t j = 0; j < rows; j++) widen_grain(ys[j], &grain_lo, &grain_hi);
+    job jb = {r, L, vp, ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
+              (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     free(xs), free(ys);
     return atomic_load(&jb.no_memory) ? TC_ENOMEM : atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;

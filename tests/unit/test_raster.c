@@ -222,6 +222,47 @@ TEST(raster_fast_cubic_within_contract) {
     if (getenv("TC_TEST_VERBOSE")) printf("    fast cubic: worst %.3g of the scale over %d triangles\n", worst, served);
 }
 
+/* A pixel's fast value depends only on its triangle, row and x, not on its lane: four
+ * lanes straddling inner edges (each lane's subtriangle selected) give the bits each
+ * lane gives alone (one subtriangle for all four), on every triangle of a jittered mesh
+ * with two channels, rows and x's drawn across the whole triangle. */
+TEST(raster_fast_lanes_mixed_equal_single) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 35);
+    scene s;
+    scene_init(&s, 7, 0.25, 2, tc_test_seed() + 20);
+    if (!s.r) return;
+    const tc_mesh *m = tc_recon_mesh(s.r);
+    int nc = tc_mesh_channel_count(m), mixed = 0, bad = 0;
+    for (int32_t t = 0; t < tc_mesh_triangle_count(m); t++) {
+        tc__eval_frame f;
+        tc__frame(m, t, &f);
+        tc__ct_fast ff;
+        tc__ct_fast_prepare(&f, tc_recon_coefs(s.r) + (size_t)t * (size_t)nc * TC_CT_ORDINATES, nc, &ff);
+        double xmin = fmin(f.p[0][0], fmin(f.p[1][0], f.p[2][0])), xmax = fmax(f.p[0][0], fmax(f.p[1][0], f.p[2][0]));
+        double ymin = fmin(f.p[0][1], fmin(f.p[1][1], f.p[2][1])), ymax = fmax(f.p[0][1], fmax(f.p[1][1], f.p[2][1]));
+        for (int k = 0; k < 24; k++) {
+            double y = ymin + (ymax - ymin) * trng_uniform(&rng), K[3];
+            tc__v4d x, v[TC_MAX_CHANNELS], one[TC_MAX_CHANNELS];
+            for (int l = 0; l < 4; l++) x[l] = xmin + (xmax - xmin) * trng_uniform(&rng);
+            tc__ct_fast_row(&ff, y, K);
+            tc__ct_fast_lanes(&ff, K, x, v);
+            tc__v4d lam[3];
+            for (int q = 0; q < 3; q++)
+                lam[q] = (tc__splat(K[q]) - tc__splat(ff.ey[q]) * (x - tc__splat(ff.ax[q]))) * tc__splat(ff.inv[q]);
+            unsigned b0 = tc__mask4((lam[0] <= lam[1]) & (lam[0] <= lam[2]));
+            mixed += b0 != 0 && b0 != 15;
+            for (int l = 0; l < 4; l++) {
+                tc__ct_fast_lanes(&ff, K, tc__splat(x[l]), one);
+                for (int ch = 0; ch < nc; ch++) bad += memcmp(&v[ch][l], &one[ch][0], sizeof(double)) != 0;
+            }
+        }
+    }
+    CHECK_MSG(mixed > 100, "only %d groups of lanes straddle an inner edge", mixed);
+    CHECK_MSG(bad == 0, "%d lanes differ from the same pixel alone", bad);
+    scene_free(&s);
+}
+
 /* tc__ct_span's doubles against tc_eval_triangle's, bit for bit, both builds:
  * rows through every triangle of a mesh, points inside and a little outside. */
 TEST(ct_span_doubles_equal_point_evaluation) {
@@ -439,6 +480,47 @@ TEST(raster_centres_exactly_on_vertices_and_edges) {
     check_tile(&s, &vp, 1);
     check_tile(&s, &vp, 4);
     scene_free(&s);
+}
+
+/* Pixel centres on the diagonals and edges of an unjittered grid, the case raster.c's
+ * row runs settle from four lanes (an owned or touching lane at a run's end, the exact
+ * signs of lanes on an edge, four at a time) and a tile whose first and last columns
+ * cut triangles (the run clipped there): dyadic lattices (4 or 8 cells, 2..16 pixels
+ * per cell: every orientation computed exactly, raster.c's lattice_exact) and others
+ * (3..6 cells, 2..9 pixels: signs certified, or exact because nothing rounded), both
+ * diagonal directions, shifted by whole and half pixels, one mesh translated far from
+ * the origin (differences round: the exact test decides), thread counts 1 and 3. */
+TEST(raster_runs_on_lattice_edges) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 33);
+    for (int k = 0; k < 20; k++) {
+        scene s;
+        int dyadic = k < 8, n = dyadic ? 4 << (k % 2) : 3 + k % 4, per = dyadic ? 2 << (k / 2 % 4) : 2 + k % 8;
+        int diag = k % 3 == 2 ? -1 : k % 3;
+        double far = k == 19 ? 1e6 + 0.5 : 0;
+        tmesh_grid(&s.g, n, n, 0, diag, &rng);
+        for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] += far, s.g.xy[2 * v + 1] += far;
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        s.m = tmesh_build(&s.g);
+        s.r = NULL, s.L = NULL;
+        if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
+        if (s.m) CHECK(tc_locator_new(s.m, &s.L) == TC_OK);
+        if (!s.r) {
+            scene_free(&s);
+            continue;
+        }
+        double h = 1.0 / (n * per), shift = k % 3 == 0 ? 0 : k % 3 == 1 ? 0.5 * h : h;
+        int w = n * per; /* centres exactly at i h + shift: on the lattice for dyadic h */
+        tc_viewport vp = {far - 0.5 * h + shift, far - 0.5 * h, far + (w - 0.5) * h + shift, far + (w - 0.5) * h, w, w};
+        double cx, cy;
+        tc_viewport_pixel_center(&vp, 3, w - 1 - 5, &cx, &cy);
+        if (dyadic) CHECK(cx == 3 * h + shift && cy == 5 * h);
+        check_tile(&s, &vp, 1 + 2 * (k % 2));
+        tc_viewport inner = {far + 0.3 - 0.5 * h, far + 0.2 - 0.5 * h, far + 0.3 + (w / 2 - 0.5) * h,
+                             far + 0.2 + (w / 2 - 0.5) * h, w / 2, w / 2}; /* columns cut triangles */
+        check_tile(&s, &inner, 1);
+        scene_free(&s);
+    }
 }
 
 /* tc_eval_points visits large batches in Z order: every result must still be
