@@ -587,6 +587,11 @@ static void cover(void *ctx, const struct tc__slot *s) {
     pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, vp->width, &i0, &i1);
     /* Rows count downwards from y1. */
     pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, vp->height, &j0, &j1);
+    /* The fast form costs ~30 operations per channel to set up: not worth it for a
+     * triangle that covers a few pixels of the tile (a 524k mesh on a 1024² tile). Judged
+     * on the tile's rows, not the band's: a pixel must not depend on how the tile is cut
+     * into bands (tc_render_options.row0/rows, BAND_ROWS). */
+    int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
     if (j0 < bd->j0) j0 = bd->j0;
     if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
     if (i0 > i1 || j0 > j1) return;
@@ -604,9 +609,6 @@ static void cover(void *ctx, const struct tc__slot *s) {
         tr.dy[k] = s->y[n] - s->y[k];
     }
     tr.exact = lattice_exact(jb, s);
-    /* The fast form costs ~30 operations per channel to set up: not worth it for a
-     * triangle that covers a few pixels of the band (a 524k mesh on a 1024² tile). */
-    int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
     tr.fast = 0;
     if (jb->r->eval == tc__ct_eval && box >= 16) {
         tc__frame_corners(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
