@@ -79,19 +79,23 @@ static int check_triangles(const struct tc_mesh *m, char *why, size_t n) {
 }
 
 /* The vertex -> corner lists: a CSR of every corner once, at its own vertex,
- * in increasing order. */
+ * in increasing order; max_valence the longest list. */
 static int check_vertex_corners(const struct tc_mesh *m, char *why, size_t n) {
+    int32_t maxval = 0;
     if (m->vstart[0] != 0 || m->vstart[m->nv] != 3 * m->nt)
         return broken(why, n, "vstart spans %d..%d, not the %d corners", (int)m->vstart[0], (int)m->vstart[m->nv],
                       (int)(3 * m->nt));
     for (int32_t v = 0; v < m->nv; v++) {
         if (m->vstart[v + 1] < m->vstart[v]) return broken(why, n, "vstart decreases at vertex %d", (int)v);
+        if (m->vstart[v + 1] - m->vstart[v] > maxval) maxval = m->vstart[v + 1] - m->vstart[v];
         for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++) {
             int32_t c = m->vcorner[i];
             if (c < 0 || c >= 3 * m->nt || m->tri[c] != v || (i > m->vstart[v] && c <= m->vcorner[i - 1]))
                 return broken(why, n, "vcorner[%d] = %d is not the next corner of vertex %d", (int)i, (int)c, (int)v);
         }
     }
+    if (m->max_valence != maxval)
+        return broken(why, n, "max_valence is %d, the longest corner list %d", (int)m->max_valence, (int)maxval);
     return 0;
 }
 

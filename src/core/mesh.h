@@ -49,6 +49,7 @@ struct tc_mesh {
     int8_t *flag;       /* [3nt] tc_continuity of edge k */
     int32_t *vstart;    /* [nv+1] CSR: corners of vertex v are */
     int32_t *vcorner;   /*   vcorner[vstart[v] .. vstart[v+1]) */
+    int32_t max_valence; /* the most corners any vertex has (topology.c) */
     int32_t nflagged;   /* interior edges flagged C0 or C-1 */
     int32_t ncorner_overrides; /* corners whose value differs from the vertex value */
     int threads;        /* threads the build's steps may use (tc_mesh_desc); no effect on any result */

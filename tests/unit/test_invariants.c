@@ -103,6 +103,11 @@ TEST(invariants_mesh_check_names_the_broken_invariant) {
     m->cz = own_cz;
     free(cz);
 
+    m->max_valence++; /* the wedges and edge sides size their scratch by it */
+    CHECK(tc__mesh_check(m, why, sizeof why) != 0);
+    CHECK_STR_CONTAINS(why, "max_valence");
+    m->max_valence--;
+
     CHECK_MSG(tc__mesh_check(m, why, sizeof why) == 0, "restored: %s", why);
     tc_mesh_free(m);
     tmesh_free(&g);

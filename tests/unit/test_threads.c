@@ -336,8 +336,8 @@ static int same_wedges(const tc__wedge_set *a, const tc__wedge_set *b, int32_t n
            !memcmp(a->vclass, b->vclass, (size_t)nv * sizeof *a->vclass);
 }
 
-/* What the threads build inside: the vertex -> corner lists (each corner takes its
- * place by an atomic add, in any order, then each list is sorted), the adjacency, the
+/* What the threads build inside: the vertex -> corner lists (corners sent to buckets
+ * by vertex range, each range sorted on its own thread) and their longest, the adjacency, the
  * corner values, and the wedge sets (each part's wedges copied into one array), on
  * a mesh where every one of those loops is split in parts. */
 TEST(threads_mesh_internals_bit_identical) {
@@ -361,6 +361,8 @@ TEST(threads_mesh_internals_bit_identical) {
         CHECK_MSG(!memcmp(m->vstart, s->vstart, ((size_t)s->nv + 1) * sizeof *s->vstart) &&
                       !memcmp(m->vcorner, s->vcorner, (size_t)nc * sizeof *s->vcorner),
                   "%d threads: the vertex corner lists differ", threads[i]);
+        CHECK_MSG(m->max_valence == s->max_valence, "%d threads: max_valence %d, not %d", threads[i],
+                  (int)m->max_valence, (int)s->max_valence);
         CHECK_MSG(!memcmp(m->nbr, s->nbr, (size_t)nc * sizeof *s->nbr) &&
                       !memcmp(m->nbr_k, s->nbr_k, (size_t)nc * sizeof *s->nbr_k) &&
                       !memcmp(m->flag, s->flag, (size_t)nc * sizeof *s->flag),
