@@ -31,6 +31,9 @@ struct tc_mesh {
     int32_t *tri;       /* [nt][3] as given */
     int8_t *orient;     /* [nt] +1 counter-clockwise, -1 clockwise */
     double *cz;         /* [nt][3][nc] corner values */
+    double cz_lo[TC_MAX_CHANNELS], cz_hi[TC_MAX_CHANNELS], cz_big[TC_MAX_CHANNELS]; /* per channel the
+                         * smallest, largest and largest |.| of cz: tc__channel_range's, kept once */
+    int cz_range_kept;  /* 1 once those are set (tc_mesh_new, after the samples) */
     int32_t ngiven;     /* triangles as given: nt plus those dropped as degenerate */
     int32_t *given;     /* [nt] the given index of each triangle, or NULL (none dropped) */
     int32_t *kept;      /* [ngiven] the triangle of each given index or -1, or NULL */
