@@ -4,8 +4,10 @@
  * loops: starting threads for each would cost more than a small loop); a loop
  * that finds the pool busy with another caller's loop starts its own threads. */
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <string.h>
+#include <time.h>
 
 #include "core/parallel.h"
 
@@ -95,7 +97,65 @@ static void own_threads(part_job *jobs, int parts) {
     }
 }
 
+static void run_loop(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
+
+/* ---- tracing (tc__parallel_trace) ---- */
+
+static struct {
+    _Atomic(tc__loop_record *) rec;
+    int cap;
+    atomic_int count; /* loops started while recording */
+} trace;
+
+/* A traced loop: its parts run through traced_part, which adds up their clocks. */
+typedef struct {
+    tc__part_fn fn;
+    void *ctx;
+    atomic_llong cpu_ns, slowest_ns;
+} traced_loop;
+
+static long long clock_ns(clockid_t c) {
+    struct timespec ts;
+    clock_gettime(c, &ts);
+    return (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+static void traced_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    traced_loop *tl = ctx;
+    long long c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID), w0 = clock_ns(CLOCK_MONOTONIC);
+    tl->fn(tl->ctx, lo, hi, part);
+    long long wall = clock_ns(CLOCK_MONOTONIC) - w0, seen = atomic_load(&tl->slowest_ns);
+    atomic_fetch_add(&tl->cpu_ns, clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0);
+    while (wall > seen && !atomic_compare_exchange_weak(&tl->slowest_ns, &seen, wall)) continue;
+}
+
+static void traced_run(tc__loop_record *rec, int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
+    int i = atomic_fetch_add(&trace.count, 1);
+    traced_loop tl = {fn, ctx, 0, 0};
+    double t0 = 1e-9 * (double)clock_ns(CLOCK_MONOTONIC);
+    run_loop(threads, n, min_part, traced_part, &tl);
+    if (i >= trace.cap) return;
+    rec[i] = (tc__loop_record){(const void *)fn, n, n > 0 ? tc__parallel_parts(threads, n, min_part) : 0, t0,
+                               1e-9 * (double)clock_ns(CLOCK_MONOTONIC), 1e-9 * (double)atomic_load(&tl.cpu_ns),
+                               1e-9 * (double)atomic_load(&tl.slowest_ns)};
+}
+
+int tc__parallel_trace(tc__loop_record *rec, int cap) {
+    int had = atomic_load(&trace.count);
+    atomic_store(&trace.rec, NULL);
+    trace.cap = rec ? cap : 0;
+    atomic_store(&trace.count, 0);
+    atomic_store(&trace.rec, rec);
+    return had;
+}
+
 void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
+    tc__loop_record *rec = atomic_load_explicit(&trace.rec, memory_order_relaxed);
+    if (rec) traced_run(rec, threads, n, min_part, fn, ctx);
+    else run_loop(threads, n, min_part, fn, ctx);
+}
+
+static void run_loop(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
     int parts = tc__parallel_parts(threads, n, min_part);
     if (n <= 0) return;
     if (parts == 1) {

@@ -27,6 +27,24 @@ int tc__parallel_parts(int threads, int32_t n, int32_t min_part);
  * failure, only less parallel. */
 void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
 
+/* One loop as tc__parallel_trace records it (bench/perf/phases.c: where a
+ * build's time goes on each thread count, and what runs between its loops). */
+typedef struct {
+    const void *fn;           /* the part function: which loop it was */
+    int32_t n;                /* its items */
+    int parts;                /* the parts it ran in */
+    double start_s, end_s;    /* CLOCK_MONOTONIC at its call and its return */
+    double cpu_s;             /* CPU time of all its parts (each thread's clock) */
+    double slowest_s;         /* wall time of its slowest part */
+} tc__loop_record;
+
+/* Starts recording every tc__parallel_for of the process into rec[0 .. cap)
+ * (rec NULL: stops) and returns how many loops the recording it ends had
+ * started (beyond cap: not kept). For benchmarks: while on, each part reads
+ * two clocks; while off, a loop pays one relaxed load. Not for concurrent use
+ * with its own calls. */
+int tc__parallel_trace(tc__loop_record *rec, int cap);
+
 /* memcpy(dst, src, bytes) in parts (a large copy runs at more than one core's bandwidth). */
 void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes);
 

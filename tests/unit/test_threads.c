@@ -6,6 +6,7 @@
 
 #include "check.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/wedge.h"
 #include "meshgen.h"
 #include "props.h"
@@ -466,4 +467,39 @@ TEST(threads_long_polylines_as_serial) {
     CHECK(same_on_threads("long polylines, bad segments", &d, &o) == TC_EINVAL);
     free(c0v), free(cmv);
     tmesh_free(&g);
+}
+
+/* tc__parallel_trace (bench/perf/phases.c): each loop recorded while on, in call order, with
+ * its part function, size, parts and clocks; nothing once off; the count says how many. */
+static void fill_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    int32_t *x = ctx;
+    (void)part;
+    for (int32_t i = lo; i < hi; i++) x[i] = i;
+}
+
+static void noop_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    (void)ctx, (void)lo, (void)hi, (void)part;
+}
+
+TEST(threads_trace_records_loops) {
+    enum { N = 1 << 16 };
+    int32_t *x = calloc(N, sizeof *x);
+    tc__loop_record rec[2];
+    CHECK(x != NULL);
+    if (!x) return;
+    tc__parallel_trace(rec, 2);
+    tc__parallel_for(4, N, 1024, fill_part, x);
+    tc__parallel_for(1, 10, 1, noop_part, NULL);
+    tc__parallel_for(2, 10, 1, noop_part, NULL); /* beyond the 2 kept: counted only */
+    CHECK(tc__parallel_trace(NULL, 0) == 3);
+    tc__parallel_for(4, N, 1024, noop_part, NULL); /* off: not recorded, not counted */
+    CHECK(tc__parallel_trace(NULL, 0) == 0);
+    CHECK(rec[0].fn == (const void *)fill_part && rec[0].n == N && rec[0].parts == 4);
+    CHECK(rec[1].fn == (const void *)noop_part && rec[1].n == 10 && rec[1].parts == 1);
+    CHECK(rec[0].end_s >= rec[0].start_s && rec[1].start_s >= rec[0].end_s);
+    CHECK(rec[0].cpu_s >= 0 && rec[0].slowest_s >= 0 && rec[0].slowest_s <= rec[0].end_s - rec[0].start_s);
+    int all = 1;
+    for (int32_t i = 0; i < N; i++) all &= x[i] == i; /* the loop itself ran, traced */
+    CHECK(all);
+    free(x);
 }
