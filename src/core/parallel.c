@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "core/parallel.h"
 
@@ -33,32 +34,85 @@ int tc__parallel_parts(int threads, int32_t n, int32_t min_part) {
 }
 
 /* The pool: worker k runs part k + 1 of the loop in hand. `busy` is held by
- * the one caller using it; the rest is guarded by `mu`. Invariant: pending
- * counts the parts handed out and not finished; a new loop (gen + 1) starts
- * only when it is 0, so no worker misses the loop it has a part in. */
+ * the one caller using it; the rest is guarded by `mu` (gen and pending are
+ * also read without it, while spinning). Invariant: pending counts the parts
+ * handed out and not finished; a new loop (gen + 1) starts only when it is 0,
+ * so no worker misses the loop it has a part in. */
 static struct {
     pthread_mutex_t busy, mu;
     pthread_cond_t go, done;
-    int nworkers, parts, pending;
-    unsigned long gen;
+    int nworkers, parts;
+    atomic_int pending;
+    atomic_int spin; /* the workers and the caller fit on the CPUs: spinning takes no CPU a thread needs */
+    atomic_ulong gen;
     part_job *jobs;
     pthread_t tid[TC_PARALLEL_MAX];
 } pool = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, PTHREAD_COND_INITIALIZER,
-          0, 0, 0, 0, NULL, {0}};
+          0, 0, 0, 0, 0, NULL, {0}};
+
+/* A build runs some thirty loops back to back, with little serial work
+ * between them: a worker that went to sleep after its part, and a caller
+ * asleep until the last part ends, each cost a futex wake-up per loop (tens to
+ * hundreds of microseconds, more in a virtual machine), which at 16 threads
+ * added up to a good part of the build. So both first spin this long on the
+ * word they wait for, and only then sleep on the condition variable; unless
+ * there are more threads than CPUs, where a spinning thread would hold a CPU
+ * that a thread with work needs. */
+#define SPIN_NS 200000L
+
+static void cpu_relax(void) {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#elif defined(__aarch64__)
+    __asm__ __volatile__("yield");
+#endif
+}
+
+static long now_ns(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (long)ts.tv_sec * 1000000000L + ts.tv_nsec;
+}
+
+/* Spins up to SPIN_NS while gen == seen (workers) or pending > 0 (the caller). */
+static void spin_gen(unsigned long seen) {
+    if (!atomic_load_explicit(&pool.spin, memory_order_relaxed)) return;
+    long until = now_ns() + SPIN_NS;
+    for (int i = 1; atomic_load_explicit(&pool.gen, memory_order_relaxed) == seen; i++) {
+        cpu_relax();
+        if (i % 16 == 0 && now_ns() > until) return;
+    }
+}
+
+static void spin_pending(void) {
+    if (!atomic_load_explicit(&pool.spin, memory_order_relaxed)) return;
+    long until = now_ns() + SPIN_NS;
+    for (int i = 1; atomic_load_explicit(&pool.pending, memory_order_acquire) > 0; i++) {
+        cpu_relax();
+        if (i % 16 == 0 && now_ns() > until) return;
+    }
+}
 
 static void *pool_worker(void *arg) {
     int part = (int)(intptr_t)arg;
     unsigned long seen = 0;
-    pthread_mutex_lock(&pool.mu);
     for (;;) {
-        while (pool.gen == seen) pthread_cond_wait(&pool.go, &pool.mu);
-        seen = pool.gen;
-        if (part >= pool.parts) continue;
+        spin_gen(seen);
+        pthread_mutex_lock(&pool.mu);
+        while (atomic_load(&pool.gen) == seen) pthread_cond_wait(&pool.go, &pool.mu);
+        seen = atomic_load(&pool.gen);
+        if (part >= pool.parts) {
+            pthread_mutex_unlock(&pool.mu);
+            continue;
+        }
         part_job j = pool.jobs[part];
         pthread_mutex_unlock(&pool.mu);
         run_part(&j);
-        pthread_mutex_lock(&pool.mu);
-        if (--pool.pending == 0) pthread_cond_signal(&pool.done);
+        if (atomic_fetch_sub(&pool.pending, 1) == 1) { /* the last part: the caller may sleep (under mu) */
+            pthread_mutex_lock(&pool.mu);
+            pthread_cond_signal(&pool.done);
+            pthread_mutex_unlock(&pool.mu);
+        }
     }
     return NULL;
 }
@@ -71,15 +125,18 @@ static int pool_run(part_job *jobs, int parts) {
         if (pthread_create(&pool.tid[k], NULL, pool_worker, (void *)(intptr_t)k) != 0) return -1;
         pthread_detach(pool.tid[k]);
         pool.nworkers++;
+        atomic_store(&pool.spin, pool.nworkers + 1 <= sysconf(_SC_NPROCESSORS_ONLN));
     }
     pthread_mutex_lock(&pool.mu);
-    pool.jobs = jobs, pool.parts = parts, pool.pending = parts - 1;
-    pool.gen++;
+    pool.jobs = jobs, pool.parts = parts;
+    atomic_store(&pool.pending, parts - 1);
+    atomic_fetch_add(&pool.gen, 1);
     pthread_cond_broadcast(&pool.go);
     pthread_mutex_unlock(&pool.mu);
     run_part(&jobs[0]);
+    spin_pending();
     pthread_mutex_lock(&pool.mu);
-    while (pool.pending > 0) pthread_cond_wait(&pool.done, &pool.mu);
+    while (atomic_load(&pool.pending) > 0) pthread_cond_wait(&pool.done, &pool.mu);
     pool.parts = 0;
     pthread_mutex_unlock(&pool.mu);
     return 0;
