@@ -477,6 +477,12 @@ static void fill_part(void *ctx, int32_t lo, int32_t hi, int part) {
     for (int32_t i = lo; i < hi; i++) x[i] = i;
 }
 
+static void count_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    int32_t *x = ctx;
+    (void)part;
+    for (int32_t i = lo; i < hi; i++) x[i]++;
+}
+
 static void noop_part(void *ctx, int32_t lo, int32_t hi, int part) {
     (void)ctx, (void)lo, (void)hi, (void)part;
 }
@@ -494,12 +500,36 @@ TEST(threads_trace_records_loops) {
     CHECK(tc__parallel_trace(NULL, 0) == 3);
     tc__parallel_for(4, N, 1024, noop_part, NULL); /* off: not recorded, not counted */
     CHECK(tc__parallel_trace(NULL, 0) == 0);
-    CHECK(rec[0].fn == (const void *)fill_part && rec[0].n == N && rec[0].parts == 4);
+    CHECK(rec[0].fn == (const void *)fill_part && rec[0].n == N && rec[0].parts == tc__parallel_parts(4, N, 1024));
     CHECK(rec[1].fn == (const void *)noop_part && rec[1].n == 10 && rec[1].parts == 1);
     CHECK(rec[0].end_s >= rec[0].start_s && rec[1].start_s >= rec[0].end_s);
     CHECK(rec[0].cpu_s >= 0 && rec[0].slowest_s >= 0 && rec[0].slowest_s <= rec[0].end_s - rec[0].start_s);
     int all = 1;
     for (int32_t i = 0; i < N; i++) all &= x[i] == i; /* the loop itself ran, traced */
     CHECK(all);
+    free(x);
+}
+
+/* A few parts per thread (a slow thread then delays one small part, not the loop by
+ * its whole share), at most TC_PARALLEL_MAX, none under min_part items; and every
+ * index in exactly one part, whichever thread takes it. */
+TEST(threads_parts_several_per_thread) {
+    CHECK(tc__parallel_parts(1, 1 << 20, 1) == 1);
+    CHECK(tc__parallel_parts(2, 1 << 20, 1) == 8);
+    CHECK(tc__parallel_parts(16, 1 << 20, 1) == TC_PARALLEL_MAX);
+    CHECK(tc__parallel_parts(200, 1 << 20, 1) == TC_PARALLEL_MAX);
+    CHECK(tc__parallel_parts(4, 5000, 1000) == 5);
+    CHECK(tc__parallel_parts(4, 500, 1000) == 1);
+    enum { N = 100003 };
+    int32_t *x = calloc(N, sizeof *x);
+    CHECK(x != NULL);
+    if (!x) return;
+    for (int threads = 2; threads <= 9; threads++) {
+        memset(x, 0, N * sizeof *x);
+        tc__parallel_for(threads, N, 100, count_part, x);
+        int once = 1;
+        for (int32_t i = 0; i < N; i++) once &= x[i] == 1;
+        CHECK_MSG(once, "%d threads: an index not run exactly once", threads);
+    }
     free(x);
 }
