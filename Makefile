@@ -130,9 +130,14 @@ $(BUILD)/bench_scaling: $(call obj,bench/perf/scaling.c) $(BUILD)/libtocher.a
 $(BUILD)/bench_tile_error: $(call obj,bench/perf/tile_error.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(CJSON_LIBS) -lm -lpthread -ldl -o $@
 
+# Where a build's time goes per loop and between loops, per thread count (bench/perf/phases.c);
+# built and carried like bench_scaling.
+$(BUILD)/bench_phases: $(call obj,bench/perf/phases.c) $(BUILD)/libtocher.a
+	$(CC) $(ALL_LDFLAGS) $^ $(CJSON_LIBS) -lm -lpthread -ldl -o $@
+
 bench: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt $(BUILD)/bench_scaling \
-	  $(BUILD)/bench_validate
+	  $(BUILD)/bench_validate $(BUILD)/bench_phases
 	bench/perf/run.sh $(BUILD)
 
 # docs/report.md and docs/report/ (about 5 minutes on 2 cores).
@@ -177,6 +182,7 @@ check: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG WARN_EXTRA=-Wconversion \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
 	  all build/san/test_unit build/san/report build/san/bench_perf build/san/bench_numfmt build/san/bench_scaling \
+	  build/san/bench_phases \
 	  build/san/bench_validate
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 

@@ -154,6 +154,10 @@ static void channel_part(void *ctx, int32_t lo, int32_t hi, int part) {
 }
 
 void tc__channel_range(const struct tc_mesh *m, const double *cz, int threads, double *lo, double *hi, double *big) {
+    if (cz == m->cz && m->cz_range_kept) { /* the mesh's own values: scanned once, by tc_mesh_new */
+        for (int ch = 0; ch < m->nc; ch++) lo[ch] = m->cz_lo[ch], hi[ch] = m->cz_hi[ch], big[ch] = m->cz_big[ch];
+        return;
+    }
     range_pass *rp = malloc(sizeof *rp); /* 24 KiB: off the stack */
     int parts = tc__parallel_parts(threads, 3 * m->nt, 16384);
     for (int ch = 0; ch < m->nc; ch++) lo[ch] = INFINITY, hi[ch] = -INFINITY, big[ch] = 0;

@@ -79,19 +79,23 @@ static int check_triangles(const struct tc_mesh *m, char *why, size_t n) {
 }
 
 /* The vertex -> corner lists: a CSR of every corner once, at its own vertex,
- * in increasing order. */
+ * in increasing order; max_valence the longest list. */
 static int check_vertex_corners(const struct tc_mesh *m, char *why, size_t n) {
+    int32_t maxval = 0;
     if (m->vstart[0] != 0 || m->vstart[m->nv] != 3 * m->nt)
         return broken(why, n, "vstart spans %d..%d, not the %d corners", (int)m->vstart[0], (int)m->vstart[m->nv],
                       (int)(3 * m->nt));
     for (int32_t v = 0; v < m->nv; v++) {
         if (m->vstart[v + 1] < m->vstart[v]) return broken(why, n, "vstart decreases at vertex %d", (int)v);
+        if (m->vstart[v + 1] - m->vstart[v] > maxval) maxval = m->vstart[v + 1] - m->vstart[v];
         for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++) {
             int32_t c = m->vcorner[i];
             if (c < 0 || c >= 3 * m->nt || m->tri[c] != v || (i > m->vstart[v] && c <= m->vcorner[i - 1]))
                 return broken(why, n, "vcorner[%d] = %d is not the next corner of vertex %d", (int)i, (int)c, (int)v);
         }
     }
+    if (m->max_valence != maxval)
+        return broken(why, n, "max_valence is %d, the longest corner list %d", (int)m->max_valence, (int)maxval);
     return 0;
 }
 
@@ -166,6 +170,22 @@ static int check_manifold(const struct tc_mesh *m, int32_t *cnt, char *why, size
     return 0;
 }
 
+/* The channel range tc_mesh_new kept: that of the corner values (a scan here). */
+static int check_kept_range(const struct tc_mesh *m, char *why, size_t n) {
+    if (!m->cz_range_kept) return broken(why, n, "the channel range of the corner values was not kept");
+    for (int ch = 0; ch < m->nc; ch++) {
+        double lo = INFINITY, hi = -INFINITY, big = 0;
+        for (size_t c = 0; c < 3 * (size_t)m->nt; c++) {
+            double z = m->cz[tc__ix((long)c, m->nc, ch)];
+            lo = z < lo ? z : lo, hi = z > hi ? z : hi, big = fabs(z) > big ? fabs(z) : big;
+        }
+        if (lo != m->cz_lo[ch] || hi != m->cz_hi[ch] || big != m->cz_big[ch])
+            return broken(why, n, "the kept range of channel %d is [%g, %g] (|.| %g), the values' [%g, %g] (|.| %g)",
+                          ch, m->cz_lo[ch], m->cz_hi[ch], m->cz_big[ch], lo, hi, big);
+    }
+    return 0;
+}
+
 int tc__mesh_check(const struct tc_mesh *m, char *why, size_t n) {
     if (why && n) why[0] = '\0';
     if (!m) return broken(why, n, "no mesh");
@@ -181,7 +201,7 @@ int tc__mesh_check(const struct tc_mesh *m, char *why, size_t n) {
     int32_t *cnt = tc__calloc((size_t)m->nv, sizeof *cnt);
     int rc = cnt ? check_manifold(m, cnt, why, n) : 0; /* out of memory: that part unchecked */
     free(cnt);
-    return rc;
+    return rc ? rc : check_kept_range(m, why, n);
 }
 
 /* ---- the wedges (wedge.h) ---- */

@@ -11,6 +11,7 @@
 #include "core/geom.h"
 #include "core/mesh_build.h"
 #include "core/parallel.h"
+#include "core/range.h"
 
 void tc_mesh_free(tc_mesh *m) {
     if (!m) return;
@@ -356,6 +357,8 @@ static int build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     if ((rc = tc__topology_build(m, dg)) != TC_OK) return rc;
     if ((rc = tc__flags_apply(m, d, dg)) != TC_OK) return rc;
     if ((rc = tc__samples_build(m, d, dg)) != TC_OK) return rc;
+    tc__channel_range(m, m->cz, m->threads, m->cz_lo, m->cz_hi, m->cz_big); /* m->cz: not the cache yet */
+    m->cz_range_kept = 1;
     warn_unused(m, dg);
     warn_slivers(m, dg);
     TC_ASSERT_CHECK(tc__mesh_check, m); /* mesh.h's invariants, once every phase has run */

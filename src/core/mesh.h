@@ -31,6 +31,9 @@ struct tc_mesh {
     int32_t *tri;       /* [nt][3] as given */
     int8_t *orient;     /* [nt] +1 counter-clockwise, -1 clockwise */
     double *cz;         /* [nt][3][nc] corner values */
+    double cz_lo[TC_MAX_CHANNELS], cz_hi[TC_MAX_CHANNELS], cz_big[TC_MAX_CHANNELS]; /* per channel the
+                         * smallest, largest and largest |.| of cz: tc__channel_range's, kept once */
+    int cz_range_kept;  /* 1 once those are set (tc_mesh_new, after the samples) */
     int32_t ngiven;     /* triangles as given: nt plus those dropped as degenerate */
     int32_t *given;     /* [nt] the given index of each triangle, or NULL (none dropped) */
     int32_t *kept;      /* [ngiven] the triangle of each given index or -1, or NULL */
@@ -49,6 +52,7 @@ struct tc_mesh {
     int8_t *flag;       /* [3nt] tc_continuity of edge k */
     int32_t *vstart;    /* [nv+1] CSR: corners of vertex v are */
     int32_t *vcorner;   /*   vcorner[vstart[v] .. vstart[v+1]) */
+    int32_t max_valence; /* the most corners any vertex has (topology.c) */
     int32_t nflagged;   /* interior edges flagged C0 or C-1 */
     int32_t ncorner_overrides; /* corners whose value differs from the vertex value */
     int threads;        /* threads the build's steps may use (tc_mesh_desc); no effect on any result */

@@ -1,31 +1,51 @@
 /* parallel.h — runs a loop over [0, n) in contiguous parts on up to `threads`
- * threads (parallel.c), for the per-vertex / per-triangle steps of a build. */
+ * threads, a few parts per thread (parallel.c), for the per-vertex /
+ * per-triangle steps of a build. */
 #ifndef TC_CORE_PARALLEL_H
 #define TC_CORE_PARALLEL_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-/* At most this many parts (and threads) for one loop. */
+/* At most this many parts (and so threads) for one loop. */
 #define TC_PARALLEL_MAX 64
 
 /* One part: fn(ctx, lo, hi, part) for [lo, hi). Parts are contiguous, in
- * order (part p covers lower indices than part p + 1), and each runs on one
- * thread; part 0 on the caller's. A caller keeps whatever a part finds in a
+ * order (part p covers lower indices than part p + 1), and each runs wholly
+ * on one thread, the threads (the caller's among them) taking the next part
+ * as they finish one. A caller keeps whatever a part finds in a
  * slot of its own (indexed by part) and merges the slots in part order, so
  * its result does not depend on how many parts there were: counts, the first
  * or the largest in index order, never a floating-point sum across parts. */
 typedef void (*tc__part_fn)(void *ctx, int32_t lo, int32_t hi, int part);
 
-/* How many parts tc__parallel_for makes of n items on `threads` threads
- * (threads <= 1: one; small loops are not split: a part has at least
- * min_part items). */
+/* How many parts tc__parallel_for makes of n items on `threads` threads:
+ * threads <= 1: one; else a few per thread (up to TC_PARALLEL_MAX), fewer
+ * for small loops: a part has at least min_part items. */
 int tc__parallel_parts(int threads, int32_t n, int32_t min_part);
 
 /* Runs fn over every part and returns when all are done. A thread that
  * cannot be started leaves its part to the caller's thread: never a
  * failure, only less parallel. */
 void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
+
+/* One loop as tc__parallel_trace records it (bench/perf/phases.c: where a
+ * build's time goes on each thread count, and what runs between its loops). */
+typedef struct {
+    const void *fn;           /* the part function: which loop it was */
+    int32_t n;                /* its items */
+    int parts;                /* the parts it ran in */
+    double start_s, end_s;    /* CLOCK_MONOTONIC at its call and its return */
+    double cpu_s;             /* CPU time of all its parts (each thread's clock) */
+    double slowest_s;         /* wall time of its slowest part */
+} tc__loop_record;
+
+/* Starts recording every tc__parallel_for of the process into rec[0 .. cap)
+ * (rec NULL: stops) and returns how many loops the recording it ends had
+ * started (beyond cap: not kept). For benchmarks: while on, each part reads
+ * two clocks; while off, a loop pays one relaxed load. Not for concurrent use
+ * with its own calls. */
+int tc__parallel_trace(tc__loop_record *rec, int cap);
 
 /* memcpy(dst, src, bytes) in parts (a large copy runs at more than one core's bandwidth). */
 void tc__parallel_copy(int threads, void *dst, const void *src, size_t bytes);

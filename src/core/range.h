@@ -102,7 +102,8 @@ typedef struct {
 void tc__range_note(tc__range_tally *t, double size, int32_t where, int edge);
 void tc__range_stats_init(tc__range_stats *s);
 /* Per channel, the smallest, largest and largest |.| corner value cz[3nt][nc]
- * (on up to `threads` threads; the values are finite, a mesh invariant). */
+ * (on up to `threads` threads; the values are finite, a mesh invariant). For
+ * the mesh's own cz, the values tc_mesh_new kept (m->cz_lo ...): no scan. */
 void tc__channel_range(const struct tc_mesh *m, const double *cz, int threads, double *lo, double *hi, double *big);
 /* Adds the tally of a later part of a loop to `into`: the same as if its
  * events had been noted after into's (the named ones are the largest, ties

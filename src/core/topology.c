@@ -1,7 +1,6 @@
 /* topology.c — who touches whom: vertex -> corner lists, edge adjacency, and
  * the continuity flags the front-end's polylines put on edges. Rejects meshes
  * that are not 2-manifold with consistent sides (repeats, 3-way edges, folds). */
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,86 +10,120 @@
 #include "core/mesh_build.h"
 #include "core/parallel.h"
 
-/* Corners of each vertex, in increasing triangle order: a counting sort in
- * parts. Each corner takes a count, then a place, by a fetch-and-add on its
- * vertex's slot (plain loads and stores when there is one part); with more
- * than one part the places within a vertex come in any order, so each
- * vertex's list is sorted after: the lists are the same for any thread count. */
+/* Corners of each vertex, in increasing corner (so triangle) order: a counting
+ * sort. On one part, count, prefix, place. On P parts, with no atomic update
+ * and nothing sorted after (an atomic add per corner, twice, cost more than the
+ * whole sort on one thread): the vertices are split into P ranges; each corner
+ * part sends its corners, in order, to the bucket of its vertex's range (a
+ * P x P table of counts gives every (corner part, range) its place), and each
+ * range then counts, prefixes and places its bucket alone. A bucket holds its
+ * corners in increasing order (corner parts in order, each in order), so each
+ * vertex's list comes out sorted: the lists are the same for any thread count. */
 typedef struct {
     struct tc_mesh *m;
-    _Atomic int32_t *slot; /* [nv] the count of each vertex, then its next place */
-    int shared;            /* more than one part: the slots need atomic updates */
+    int parts;
+    int32_t *bucket;                /* [3nt] corners grouped by vertex range */
+    int32_t *slot;                  /* [nv] count of a vertex, then its next place */
+    int32_t vlo[TC_PARALLEL_MAX + 1]; /* vertex range q: [vlo[q], vlo[q + 1]) */
+    int32_t blo[TC_PARALLEL_MAX + 1]; /* its bucket: bucket[blo[q] .. blo[q + 1]) */
+    int32_t (*at)[TC_PARALLEL_MAX];   /* [part][q]: count, then next place in bucket q */
+    int32_t maxval[TC_PARALLEL_MAX];  /* the largest valence in range q */
 } corner_pass;
 
-static int32_t take(_Atomic int32_t *x, int shared) {
-    if (shared) return atomic_fetch_add_explicit(x, 1, memory_order_relaxed);
-    int32_t v = atomic_load_explicit(x, memory_order_relaxed);
-    atomic_store_explicit(x, v + 1, memory_order_relaxed);
-    return v;
+/* The range of vertex v: the last q with vlo[q] <= v. */
+static int range_of(const corner_pass *cp, int32_t v) {
+    int q = (int)((int64_t)v * cp->parts / cp->m->nv); /* vlo[q] <= v; at most one range short */
+    while (q + 1 < cp->parts && cp->vlo[q + 1] <= v) q++;
+    return q;
 }
 
-static void zero_slots_part(void *ctx, int32_t lo, int32_t hi, int part) {
+static void bucket_count_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    int32_t *n = cp->at[part];
+    for (int q = 0; q < cp->parts; q++) n[q] = 0;
+    for (int32_t c = lo; c < hi; c++) n[range_of(cp, cp->m->tri[c])]++;
+}
+
+static void bucket_fill_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    corner_pass *cp = ctx;
+    int32_t *next = cp->at[part];
+    for (int32_t c = lo; c < hi; c++) cp->bucket[next[range_of(cp, cp->m->tri[c])]++] = c;
+}
+
+/* Counting sort of corners[0 .. n) (increasing) by vertex, for the vertices
+ * [vlo, vhi), whose lists start at `first`: sets vstart[vlo .. vhi) and places
+ * the corners; returns the largest valence among them. slot[vlo .. vhi) is
+ * this call's alone. */
+static int32_t place_corners(struct tc_mesh *m, int32_t *slot, const int32_t *corners, int32_t n, int32_t vlo,
+                             int32_t vhi, int32_t first) {
+    int32_t maxval = 0;
+    for (int32_t v = vlo; v < vhi; v++) slot[v] = 0;
+    for (int32_t i = 0; i < n; i++) slot[m->tri[corners ? corners[i] : i]]++;
+    for (int32_t v = vlo; v < vhi; v++) { /* the counts become the first places */
+        int32_t k = slot[v];
+        m->vstart[v] = slot[v] = first;
+        first += k;
+        if (k > maxval) maxval = k;
+    }
+    for (int32_t i = 0; i < n; i++) {
+        int32_t c = corners ? corners[i] : i;
+        m->vcorner[slot[m->tri[c]]++] = c;
+    }
+    return maxval;
+}
+
+static void range_place_part(void *ctx, int32_t lo, int32_t hi, int part) {
     corner_pass *cp = ctx;
     (void)part;
-    for (int32_t v = lo; v < hi; v++) atomic_init(&cp->slot[v], 0);
+    for (int q = lo; q < hi; q++)
+        cp->maxval[q] = place_corners(cp->m, cp->slot, cp->bucket + cp->blo[q], cp->blo[q + 1] - cp->blo[q],
+                                      cp->vlo[q], cp->vlo[q + 1], cp->blo[q]);
 }
 
-static void count_part(void *ctx, int32_t lo, int32_t hi, int part) {
-    corner_pass *cp = ctx;
-    (void)part;
-    for (int32_t c = lo; c < hi; c++) take(&cp->slot[cp->m->tri[c]], cp->shared);
-}
-
-static void place_part(void *ctx, int32_t lo, int32_t hi, int part) {
-    corner_pass *cp = ctx;
-    (void)part;
-    for (int32_t c = lo; c < hi; c++) cp->m->vcorner[take(&cp->slot[cp->m->tri[c]], cp->shared)] = c;
-}
-
-static int int32_cmp(const void *x, const void *y) {
-    int32_t p = *(const int32_t *)x, q = *(const int32_t *)y;
-    return (p > q) - (p < q);
-}
-
-static void sort_corners_part(void *ctx, int32_t lo, int32_t hi, int part) {
-    corner_pass *cp = ctx;
-    const struct tc_mesh *m = cp->m;
-    (void)part;
-    for (int32_t v = lo; v < hi; v++) {
-        int32_t *c = m->vcorner + m->vstart[v], n = m->vstart[v + 1] - m->vstart[v];
-        if (n > 24) {
-            qsort(c, (size_t)n, sizeof *c, int32_cmp);
-            continue;
-        }
-        for (int32_t i = 1; i < n; i++) { /* few: insertion sort */
-            int32_t x = c[i], j = i;
-            for (; j > 0 && c[j - 1] > x; j--) c[j] = c[j - 1];
-            c[j] = x;
+/* The places of the P x P table: bucket q holds range q's corners from part 0,
+ * then part 1, ... */
+static void bucket_places(corner_pass *cp) {
+    int32_t run = 0;
+    for (int q = 0; q < cp->parts; q++) {
+        cp->blo[q] = run;
+        for (int p = 0; p < cp->parts; p++) {
+            int32_t n = cp->at[p][q];
+            cp->at[p][q] = run;
+            run += n;
         }
     }
+    cp->blo[cp->parts] = run;
 }
 
 static int build_vertex_corners(struct tc_mesh *m) {
     int32_t nc = 3 * m->nt; /* below INT32_MAX: mesh.c's limits */
+    corner_pass cp = {.m = m, .parts = tc__parallel_parts(m->threads, nc, 16384)};
     m->vstart = tc__malloc((size_t)m->nv + 1, sizeof *m->vstart);
     m->vcorner = tc__malloc((size_t)nc, sizeof *m->vcorner);
-    corner_pass cp = {m, tc__malloc((size_t)m->nv, sizeof *cp.slot), tc__parallel_parts(m->threads, nc, 16384) > 1};
-    if (!m->vstart || !m->vcorner || !cp.slot) {
-        free(cp.slot);
-        return TC_ENOMEM;
+    cp.slot = tc__malloc((size_t)m->nv, sizeof *cp.slot);
+    if (cp.parts > 1) {
+        cp.bucket = tc__malloc((size_t)nc, sizeof *cp.bucket);
+        cp.at = tc__malloc((size_t)cp.parts, sizeof *cp.at);
     }
-    tc__parallel_for(m->threads, m->nv, 16384, zero_slots_part, &cp);
-    tc__parallel_for(m->threads, nc, 16384, count_part, &cp);
-    m->vstart[0] = 0;
-    for (int32_t v = 0; v < m->nv; v++) { /* the counts become the first places */
-        int32_t n = atomic_load_explicit(&cp.slot[v], memory_order_relaxed);
-        atomic_store_explicit(&cp.slot[v], m->vstart[v], memory_order_relaxed);
-        m->vstart[v + 1] = m->vstart[v] + n;
+    int rc = TC_ENOMEM;
+    if (!m->vstart || !m->vcorner || !cp.slot || (cp.parts > 1 && (!cp.bucket || !cp.at))) goto done;
+    m->vstart[m->nv] = nc;
+    if (cp.parts == 1) {
+        m->max_valence = place_corners(m, cp.slot, NULL, nc, 0, m->nv, 0);
+    } else {
+        for (int q = 0; q <= cp.parts; q++) cp.vlo[q] = (int32_t)((int64_t)m->nv * q / cp.parts);
+        tc__parallel_for(m->threads, nc, 16384, bucket_count_part, &cp); /* cp.parts parts, as counted */
+        bucket_places(&cp);
+        tc__parallel_for(m->threads, nc, 16384, bucket_fill_part, &cp); /* the same parts again */
+        tc__parallel_for(m->threads, cp.parts, 1, range_place_part, &cp); /* one range per part */
+        m->max_valence = 0;
+        for (int q = 0; q < cp.parts; q++)
+            if (cp.maxval[q] > m->max_valence) m->max_valence = cp.maxval[q];
     }
-    tc__parallel_for(m->threads, nc, 16384, place_part, &cp);
-    if (cp.shared) tc__parallel_for(m->threads, m->nv, 4096, sort_corners_part, &cp);
-    free(cp.slot);
-    return TC_OK;
+    rc = TC_OK;
+done:
+    free(cp.slot), free(cp.bucket), free(cp.at);
+    return rc;
 }
 
 /* Index (0..2) of the edge of triangle t that joins a and b, or -1. */
@@ -182,11 +215,8 @@ static void sides_part(void *ctx, int32_t lo, int32_t hi, int part) {
 
 static int find_sides(struct tc_mesh *m, edge_sides *es) {
     size_t nc = 3 * (size_t)m->nt;
-    int32_t maxval = 0;
-    for (int32_t v = 0; v < m->nv; v++)
-        if (m->vstart[v + 1] - m->vstart[v] > maxval) maxval = m->vstart[v + 1] - m->vstart[v];
     es->m = m;
-    es->max_pairs = 2 * maxval;
+    es->max_pairs = 2 * m->max_valence;
     es->oth0 = tc__malloc(nc, sizeof *es->oth0);
     es->oth1 = tc__malloc(nc, sizeof *es->oth1);
     es->noth = tc__malloc(nc, sizeof *es->noth);

@@ -191,18 +191,11 @@ static void across_part(void *ctx, int32_t lo, int32_t hi, int part) {
     wp->ncoupled[part] = link_across(wp->m, wp->ws, lo, hi);
 }
 
-static int32_t max_degree(const struct tc_mesh *m) {
-    int32_t d = 0;
-    for (int32_t v = 0; v < m->nv; v++)
-        if (m->vstart[v + 1] - m->vstart[v] > d) d = m->vstart[v + 1] - m->vstart[v];
-    return d;
-}
-
 int tc__wedges_build_on(const struct tc_mesh *m, int honor_flags, int threads, tc__wedge_set *ws) {
     TC_ASSERT(m && ws);
     TC_ASSERT(honor_flags == TC_HONOR_NONE || honor_flags == TC_HONOR_ALL || honor_flags == TC_HONOR_CM1);
     size_t nc = 3 * (size_t)m->nt;
-    int32_t deg = max_degree(m);
+    int32_t deg = m->max_valence;
     memset(ws, 0, sizeof *ws);
     ws->honor_flags = honor_flags;
     ws->threads = threads;

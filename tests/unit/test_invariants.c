@@ -103,6 +103,17 @@ TEST(invariants_mesh_check_names_the_broken_invariant) {
     m->cz = own_cz;
     free(cz);
 
+    m->max_valence++; /* the wedges and edge sides size their scratch by it */
+    CHECK(tc__mesh_check(m, why, sizeof why) != 0);
+    CHECK_STR_CONTAINS(why, "max_valence");
+    m->max_valence--;
+
+    double kept = m->cz_hi[0];
+    m->cz_hi[0] += 1; /* the bounds and the tangent clamps read it for the corner values' range */
+    CHECK(tc__mesh_check(m, why, sizeof why) != 0);
+    CHECK_STR_CONTAINS(why, "kept range of channel 0");
+    m->cz_hi[0] = kept;
+
     CHECK_MSG(tc__mesh_check(m, why, sizeof why) == 0, "restored: %s", why);
     tc_mesh_free(m);
     tmesh_free(&g);

@@ -6,6 +6,7 @@
 
 #include "check.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/wedge.h"
 #include "meshgen.h"
 #include "props.h"
@@ -336,8 +337,8 @@ static int same_wedges(const tc__wedge_set *a, const tc__wedge_set *b, int32_t n
            !memcmp(a->vclass, b->vclass, (size_t)nv * sizeof *a->vclass);
 }
 
-/* What the threads build inside: the vertex -> corner lists (each corner takes its
- * place by an atomic add, in any order, then each list is sorted), the adjacency, the
+/* What the threads build inside: the vertex -> corner lists (corners sent to buckets
+ * by vertex range, each range sorted on its own thread) and their longest, the adjacency, the
  * corner values, and the wedge sets (each part's wedges copied into one array), on
  * a mesh where every one of those loops is split in parts. */
 TEST(threads_mesh_internals_bit_identical) {
@@ -361,6 +362,8 @@ TEST(threads_mesh_internals_bit_identical) {
         CHECK_MSG(!memcmp(m->vstart, s->vstart, ((size_t)s->nv + 1) * sizeof *s->vstart) &&
                       !memcmp(m->vcorner, s->vcorner, (size_t)nc * sizeof *s->vcorner),
                   "%d threads: the vertex corner lists differ", threads[i]);
+        CHECK_MSG(m->max_valence == s->max_valence, "%d threads: max_valence %d, not %d", threads[i],
+                  (int)m->max_valence, (int)s->max_valence);
         CHECK_MSG(!memcmp(m->nbr, s->nbr, (size_t)nc * sizeof *s->nbr) &&
                       !memcmp(m->nbr_k, s->nbr_k, (size_t)nc * sizeof *s->nbr_k) &&
                       !memcmp(m->flag, s->flag, (size_t)nc * sizeof *s->flag),
@@ -464,4 +467,69 @@ TEST(threads_long_polylines_as_serial) {
     CHECK(same_on_threads("long polylines, bad segments", &d, &o) == TC_EINVAL);
     free(c0v), free(cmv);
     tmesh_free(&g);
+}
+
+/* tc__parallel_trace (bench/perf/phases.c): each loop recorded while on, in call order, with
+ * its part function, size, parts and clocks; nothing once off; the count says how many. */
+static void fill_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    int32_t *x = ctx;
+    (void)part;
+    for (int32_t i = lo; i < hi; i++) x[i] = i;
+}
+
+static void count_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    int32_t *x = ctx;
+    (void)part;
+    for (int32_t i = lo; i < hi; i++) x[i]++;
+}
+
+static void noop_part(void *ctx, int32_t lo, int32_t hi, int part) {
+    (void)ctx, (void)lo, (void)hi, (void)part;
+}
+
+TEST(threads_trace_records_loops) {
+    enum { N = 1 << 16 };
+    int32_t *x = calloc(N, sizeof *x);
+    tc__loop_record rec[2];
+    CHECK(x != NULL);
+    if (!x) return;
+    tc__parallel_trace(rec, 2);
+    tc__parallel_for(4, N, 1024, fill_part, x);
+    tc__parallel_for(1, 10, 1, noop_part, NULL);
+    tc__parallel_for(2, 10, 1, noop_part, NULL); /* beyond the 2 kept: counted only */
+    CHECK(tc__parallel_trace(NULL, 0) == 3);
+    tc__parallel_for(4, N, 1024, noop_part, NULL); /* off: not recorded, not counted */
+    CHECK(tc__parallel_trace(NULL, 0) == 0);
+    CHECK(rec[0].fn == (const void *)fill_part && rec[0].n == N && rec[0].parts == tc__parallel_parts(4, N, 1024));
+    CHECK(rec[1].fn == (const void *)noop_part && rec[1].n == 10 && rec[1].parts == 1);
+    CHECK(rec[0].end_s >= rec[0].start_s && rec[1].start_s >= rec[0].end_s);
+    CHECK(rec[0].cpu_s >= 0 && rec[0].slowest_s >= 0 && rec[0].slowest_s <= rec[0].end_s - rec[0].start_s);
+    int all = 1;
+    for (int32_t i = 0; i < N; i++) all &= x[i] == i; /* the loop itself ran, traced */
+    CHECK(all);
+    free(x);
+}
+
+/* A few parts per thread (a slow thread then delays one small part, not the loop by
+ * its whole share), at most TC_PARALLEL_MAX, none under min_part items; and every
+ * index in exactly one part, whichever thread takes it. */
+TEST(threads_parts_several_per_thread) {
+    CHECK(tc__parallel_parts(1, 1 << 20, 1) == 1);
+    CHECK(tc__parallel_parts(2, 1 << 20, 1) == 8);
+    CHECK(tc__parallel_parts(16, 1 << 20, 1) == TC_PARALLEL_MAX);
+    CHECK(tc__parallel_parts(200, 1 << 20, 1) == TC_PARALLEL_MAX);
+    CHECK(tc__parallel_parts(4, 5000, 1000) == 5);
+    CHECK(tc__parallel_parts(4, 500, 1000) == 1);
+    enum { N = 100003 };
+    int32_t *x = calloc(N, sizeof *x);
+    CHECK(x != NULL);
+    if (!x) return;
+    for (int threads = 2; threads <= 9; threads++) {
+        memset(x, 0, N * sizeof *x);
+        tc__parallel_for(threads, N, 100, count_part, x);
+        int once = 1;
+        for (int32_t i = 0; i < N; i++) once &= x[i] == 1;
+        CHECK_MSG(once, "%d threads: an index not run exactly once", threads);
+    }
+    free(x);
 }
