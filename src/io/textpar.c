@@ -4,6 +4,7 @@
 
 #include <string.h>
 
+#include "core/alloc.h"
 #include "core/parallel.h"
 #include "io/base64.h"
 
@@ -20,8 +21,15 @@ static void print_part(void *c, int32_t lo, int32_t hi, int part) {
     text_job *j = c;
     tc_strbuf *b = part ? &j->part[part] : j->out;
     size_t items = (size_t)(hi - lo);
-    /* part 0 reserves too: out's caller may have reserved less than the bound */
-    if (j->per_item > 0 && items <= (SIZE_MAX - 1) / j->per_item) tc_strbuf_reserve(b, items * j->per_item);
+    if (j->per_item > 0 && items <= (SIZE_MAX - 1) / j->per_item) {
+        size_t bound = items * j->per_item;
+        /* A part's own buffer is fresh memory written once: from 4 MiB on it is taken from
+         * the core's allocator, which asks for huge pages (a part of a big answer is some
+         * 10 MB; in 4 KiB pages its first writes cost more page faults than printing). */
+        char *p = part && !b->cap ? tc__malloc(bound + 1, 1) : NULL;
+        if (p) tc_strbuf_adopt(b, p, 0, bound + 1);
+        tc_strbuf_reserve(b, bound); /* part 0 too: out's caller may have reserved less */
+    }
     j->fn(b, j->ctx, lo, hi);
 }
 
@@ -35,6 +43,11 @@ static void copy_part(void *c, int32_t lo, int32_t hi, int unused) {
 
 void tc__text_parallel(tc_strbuf *b, int32_t n, int threads, int32_t min_part, size_t per_item,
                        tc__text_fn fn, void *ctx) {
+    /* One part per thread, not the few per thread a build's loops take: every part but the
+     * first goes through a buffer of its own, fresh memory that the kernel zeroes and that
+     * is copied once more (measured on 131k triangles, 2 threads: 8 parts 109 ms, 2 parts
+     * 54, one thread 94). */
+    if (threads > 1 && n / threads > min_part) min_part = n / threads; /* then n / min_part = threads */
     int parts = tc__parallel_parts(threads, n, min_part);
     if (parts <= 1 || b->oom) {
         fn(b, ctx, 0, n);
