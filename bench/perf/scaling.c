@@ -20,6 +20,7 @@
 #include "io/request.h"
 #include "tocher.h"
 #include "benchio.h"
+#include "benchmesh.h"
 
 static double now_s(void) {
     return bench_clock_s(CLOCK_MONOTONIC);
@@ -113,19 +114,12 @@ int main(int argc, char **argv) {
     }
     int32_t size = argc > 2 ? atoi(argv[2]) : 1024;
     const char *list = argc > 3 ? argv[3] : "1,2";
-    size_t len;
-    char *json = bench_slurp(argv[1], &len);
-    tc_request *req = NULL;
-    tc_mesh *m = NULL;
-    tc_recon *r = NULL;
-    tc_locator *L = NULL;
     double t0 = now_s();
-    if (!json || tc_request_parse(json, len, TC_REQ_MESH, &req, NULL) != TC_REQ_OK ||
-        tc_mesh_new(&req->desc, &m, NULL) != TC_OK || tc_recon_new(m, &req->opt, &r, NULL) != TC_OK ||
-        tc_locator_new(m, &L) != TC_OK) {
-        fprintf(stderr, "%s: cannot build\n", argv[1]);
-        return 1;
-    }
+    bench_mesh bm;
+    if (bench_mesh_load(argv[1], &bm)) return 1;
+    const tc_mesh *m = bm.m;
+    const tc_recon *r = bm.r;
+    const tc_locator *L = bm.L;
     double built = now_s() - t0;
     float *px = malloc((size_t)size * (size_t)size * (size_t)r->m->nc * sizeof *px);
     if (!px) return 1;
@@ -146,7 +140,7 @@ int main(int argc, char **argv) {
         fflush(stdout);
     }
     printf("], \"identical\": %s}\n", bad ? "false" : "true");
-    free(copy), free(px), free(json);
-    tc_locator_free(L), tc_recon_free(r), tc_mesh_free(m), tc_request_free(req);
+    free(copy), free(px);
+    bench_mesh_free(&bm);
     return bad;
 }

@@ -16,7 +16,7 @@
 #include "core/recon.h"
 #include "io/request.h"
 #include "tocher.h"
-#include "benchio.h"
+#include "benchmesh.h"
 
 int main(int argc, char **argv) {
     if (argc < 2) {
@@ -24,18 +24,11 @@ int main(int argc, char **argv) {
         return 2;
     }
     int32_t size = argc > 2 ? atoi(argv[2]) : 1024;
-    size_t len;
-    char *json = bench_slurp(argv[1], &len);
-    tc_request *req = NULL;
-    tc_mesh *m = NULL;
-    tc_recon *r = NULL;
-    tc_locator *L = NULL;
-    if (!json || tc_request_parse(json, len, TC_REQ_MESH, &req, NULL) != TC_REQ_OK ||
-        tc_mesh_new(&req->desc, &m, NULL) != TC_OK || tc_recon_new(m, &req->opt, &r, NULL) != TC_OK ||
-        tc_locator_new(m, &L) != TC_OK) {
-        fprintf(stderr, "%s: cannot build\n", argv[1]);
-        return 1;
-    }
+    bench_mesh bm;
+    if (bench_mesh_load(argv[1], &bm)) return 1;
+    const tc_mesh *m = bm.m;
+    const tc_recon *r = bm.r;
+    const tc_locator *L = bm.L;
     tc_viewport vp = {0, 0, 1, 1, size, size};
     size_t np = (size_t)size * (size_t)size, nc = (size_t)tc_mesh_channel_count(m);
     float *a = malloc(np * nc * sizeof *a), *b = malloc(np * nc * sizeof *b);
@@ -71,7 +64,7 @@ int main(int argc, char **argv) {
         if (!f || fwrite(a, sizeof *a, np * nc, f) != np * nc || fwrite(own, sizeof *own, np, f) != np) return 1;
         fclose(f);
     }
-    free(a), free(b), free(own), free(own3), free(t), free(xy), free(val), free(json);
-    tc_locator_free(L), tc_recon_free(r), tc_mesh_free(m), tc_request_free(req);
+    free(a), free(b), free(own), free(own3), free(t), free(xy), free(val);
+    bench_mesh_free(&bm);
     return bad_owner || !same;
 }

@@ -19,16 +19,23 @@ typedef struct {
     tc_locator *L;
 } scene;
 
+/* The mesh, reconstruction and locator of s->g (sampled): 1, or 0 when any of them
+ * failed (the failure checked; the caller frees s either way). */
+static int scene_build(scene *s) {
+    s->m = tmesh_build(&s->g);
+    s->r = NULL, s->L = NULL;
+    if (s->m) CHECK(tc_recon_new(s->m, NULL, &s->r, NULL) == TC_OK);
+    if (s->m) CHECK(tc_locator_new(s->m, &s->L) == TC_OK);
+    return s->r && s->L;
+}
+
 static void scene_init(scene *s, int n, double jitter, int nc, unsigned long seed) {
     trng rng;
     trng_seed(&rng, seed);
     random_flagged_mesh(&s->g, &rng, 0, n);
     (void)jitter;
     tmesh_sample(&s->g, nc, smooth_f, NULL, 0, 1, 0.3);
-    s->m = tmesh_build(&s->g);
-    s->r = NULL, s->L = NULL;
-    if (s->m) CHECK(tc_recon_new(s->m, NULL, &s->r, NULL) == TC_OK);
-    if (s->m) CHECK(tc_locator_new(s->m, &s->L) == TC_OK);
+    (void)scene_build(s);
 }
 
 static void scene_free(scene *s) {
@@ -115,11 +122,7 @@ TEST(raster_runs_match_locate_fuzz) {
         tmesh_grid(&s.g, n, n, 0.3 * trng_uniform(&rng), -1, &rng);
         if (trng_int(&rng, 2)) tmesh_delaunay_flips(&s.g);
         tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        s.m = tmesh_build(&s.g);
-        s.r = NULL, s.L = NULL;
-        if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
-        if (s.m) CHECK(tc_locator_new(s.m, &s.L) == TC_OK);
-        if (!s.r) {
+        if (!scene_build(&s)) {
             scene_free(&s);
             continue;
         }
@@ -468,11 +471,10 @@ TEST(raster_centres_exactly_on_vertices_and_edges) {
     for (int i = 0; i <= 8; i++) row[i] = tmesh_gv(8, i, 4);
     tmesh_add_line(&s.g, TC_C0, row, 9);
     tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-    s.m = tmesh_build(&s.g);
-    s.r = NULL, s.L = NULL;
-    if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
-    if (s.m) CHECK(tc_locator_new(s.m, &s.L) == TC_OK);
-    if (!s.r) return;
+    if (!scene_build(&s)) {
+        scene_free(&s);
+        return;
+    }
     tc_viewport vp = {-1.0 / 128, -1.0 / 128, 1 - 1.0 / 128, 1 - 1.0 / 128, 64, 64};
     double x, y;
     tc_viewport_pixel_center(&vp, 8, 40, &x, &y);
@@ -501,11 +503,7 @@ TEST(raster_runs_on_lattice_edges) {
         tmesh_grid(&s.g, n, n, 0, diag, &rng);
         for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] += far, s.g.xy[2 * v + 1] += far;
         tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        s.m = tmesh_build(&s.g);
-        s.r = NULL, s.L = NULL;
-        if (s.m) CHECK(tc_recon_new(s.m, NULL, &s.r, NULL) == TC_OK);
-        if (s.m) CHECK(tc_locator_new(s.m, &s.L) == TC_OK);
-        if (!s.r) {
+        if (!scene_build(&s)) {
             scene_free(&s);
             continue;
         }
