@@ -29,7 +29,7 @@ static const option options[] = {
      F(workers), 1, 1024},
     {"--max-queue", "TOCHER_MAX_QUEUE", "N", "requests waiting for a worker; more get 503 with Retry-After", K_INT,
      F(max_queue), 1, 1e6},
-    {"--render-threads", "TOCHER_RENDER_THREADS", "N", "threads one render (and one mesh's validation and build) may use", K_INT, F(render_threads), 1, 1024},
+    {"--render-threads", "TOCHER_RENDER_THREADS", "N", "threads one request may use: its render, its mesh's validation and build, printing its big answer", K_INT, F(render_threads), 1, 1024},
     {"--max-body", "TOCHER_MAX_BODY", "BYTES", "largest request body (suffix k, M, G: binary units)", K_BYTES,
      F(max_body), 1, 1LL << 40},
     {"--max-vertices", "TOCHER_MAX_VERTICES", "N", "most vertices in one mesh (0: no limit)", K_INT, F(max_vertices), 0,
