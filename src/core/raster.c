@@ -58,8 +58,8 @@ static inline int32_t *own_row(const band *bd, int32_t j) {
 static void pixel_range(double a, double b, double origin, double step, int32_t n, int32_t *lo, int32_t *hi) {
     double fa = (a - origin) / step - 0.5, fb = (b - origin) / step - 0.5;
     double l = floor(fmin(fa, fb)) - 1, h = ceil(fmax(fa, fb)) + 1;
-    *lo = l < 0 ? 0 : l >= n ? n : (int32_t)l;
-    *hi = h < 0 ? -1 : h >= n ? n - 1 : (int32_t)h;
+    *lo = !(l >= 0) ? 0 : l >= n ? n : (int32_t)l; /* NaN (never from finite input): the whole range */
+    *hi = !(h < n) ? n - 1 : h < 0 ? -1 : (int32_t)h;
 }
 
 /* Owner encoding while a band is rasterized: -1 none, t >= 0 strict owner,
@@ -546,7 +546,9 @@ TC__V4_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int3
     /* A guess, biased a little outward: a centre the edge runs through (a grid's
      * diagonal) falls inside [lo, hi], the pixel beyond it outside, as guessed_run wants. */
     double fa = floor((xl - vp->x0) * per_x - (0.5 + 0x1p-8)), fb = ceil((xr - vp->x0) * per_x - (0.5 - 0x1p-8));
-    int32_t lo = fa < i0 ? i0 : fa > i1 ? i1 : (int32_t)fa, hi = fb > i1 ? i1 : fb < i0 ? i0 : (int32_t)fb;
+    /* A NaN guess (a viewport so narrow that per_x overflows: 0 * inf) guesses the whole
+     * span [i0, i1]: the comparisons are written so that NaN fails them. */
+    int32_t lo = !(fa >= i0) ? i0 : fa > i1 ? i1 : (int32_t)fa, hi = !(fb <= i1) ? i1 : fb < i0 ? i0 : (int32_t)fb;
     if (tr->fast && hi - lo >= 2 && guessed_run(bd, tr, j, y, l, lo, hi, i0, i1)) return;
     int first_out = 1, last_out = 1;
     row_lanes(bd, tr, j, y, l, lo, hi, &first_out, &last_out);

@@ -1114,6 +1114,17 @@ def section_bad_input(D, S):
             errs.insert(0, "/healthz does not answer afterwards")
         check("%d for %s" % (status, name), not errs, "; ".join(errs))
 
+    # Viewports narrower than a double's step per pixel (x1 - x0 subnormal): valid requests
+    # that crashed the daemon before (pixels per unit overflow to infinity, 0 * infinity is
+    # NaN, and a NaN became a column index). A fuzzer's find.
+    for vp in ({"x0": 0, "y0": 0, "x1": 2.1e-319, "y1": 1, "width": 64, "height": 64},
+               {"x0": 0, "y0": 0, "x1": 1, "y1": 3e-320, "width": 16, "height": 16},
+               {"x0": 0, "y0": 0, "x1": 1e-310, "y1": 1e-310, "width": 9, "height": 9}):
+        r = post(D, "/v1/render", with_(SMALL, viewport=vp, format="raw"))
+        check("a viewport %g wide and %g high renders (200, the whole tile) and the daemon lives"
+              % (vp["x1"], vp["y1"]), r.status == 200 and len(r.body) == 4 * vp["width"] * vp["height"]
+              and healthz_ok(D), r.brief())
+
     # Only the headers, with a huge Content-Length: the 413 must come without the body.
     hdr = (b"POST /v1/render HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
            b"Content-Length: 10000000000000\r\n\r\n")

@@ -380,6 +380,24 @@ TEST(raster_outside_background_and_errors) {
 }
 
 /* The overlay marks C0 edges yellow and leaves cell interiors alone. */
+/* A viewport narrower than a double's step per pixel (x1 - x0 subnormal: pixels per unit
+ * overflow to infinity, 0 * infinity is NaN): the row guess must not turn a NaN into a
+ * column (a fuzzer's find: undefined behaviour, and an index far outside the row). */
+TEST(raster_viewport_of_subnormal_width) {
+    scene s;
+    scene_init(&s, 5, 0.25, 2, tc_test_seed() + 41);
+    if (s.r) {
+        tc_viewport wide = {0, 0, 2.1e-319, 1, 7, 5}, tall = {0, 0, 1, 3e-320, 6, 4};
+        tc_viewport both = {0, 0, 1e-310, 1e-310, 9, 9};
+        for (int threads = 1; threads <= 3; threads += 2) {
+            check_tile(&s, &wide, threads);
+            check_tile(&s, &tall, threads);
+            check_tile(&s, &both, threads);
+        }
+    }
+    scene_free(&s);
+}
+
 TEST(raster_overlay_colours_edges) {
     scene s;
     scene_init(&s, 12, 0.25, 3, tc_test_seed() + 23);
