@@ -767,7 +767,9 @@ static void draw_line(const tc_viewport *vp, int32_t row0, int32_t rows, int nc,
     for (double k = 0; k <= n; k++) {
         double f = n > 0 ? k / n : 0;
         double px = floor(ax + f * (bx - ax) + 0.5), py = floor(ay + f * (by - ay) + 0.5);
-        if (px < 0 || py < row0 || px >= vp->width || py >= row0 + rows) continue;
+        /* written so that NaN fails it: a vertex on x0 of a viewport whose pixels per unit
+         * overflow to infinity is at 0 * infinity */
+        if (!(px >= 0 && py >= row0 && px < vp->width && py < row0 + rows)) continue;
         memcpy(values + ((size_t)(py - row0) * (size_t)vp->width + (size_t)px) * (size_t)nc, c,
                (size_t)nc * sizeof *c);
     }

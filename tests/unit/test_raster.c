@@ -394,6 +394,18 @@ TEST(raster_viewport_of_subnormal_width) {
             check_tile(&s, &tall, threads);
             check_tile(&s, &both, threads);
         }
+        /* the overlay: vertices on x0 land at 0 * infinity; no line is drawn there (the
+         * sanitized build, `make check`, traps the NaN index this once became) */
+        const tc_viewport *vps[] = {&wide, &tall, &both};
+        for (int k = 0; k < 3; k++) {
+            size_t np = (size_t)vps[k]->width * (size_t)vps[k]->height * 2;
+            float *img = calloc(np, sizeof *img);
+            tc_render_overlay(s.r, vps[k], 1, img);
+            int finite = 1;
+            for (size_t p = 0; p < np; p++) finite &= isfinite(img[p]);
+            CHECK_MSG(finite, "overlay on viewport %d wrote a non-finite pixel", k);
+            free(img);
+        }
     }
     scene_free(&s);
 }
