@@ -43,12 +43,21 @@ static void *take_parts(void *arg) {
  * share, few enough that a part's own set-up (scratch, merging) stays small. */
 #define PARTS_PER_THREAD 4
 
-int tc__parallel_parts(int threads, int32_t n, int32_t min_part) {
+/* Parts of n items for `per` parts per thread, each of at least min_part items. */
+static int parts_of(int threads, int32_t n, int32_t min_part, int per) {
     if (threads <= 1 || n <= 0) return 1;
-    int want = threads > TC_PARALLEL_MAX / PARTS_PER_THREAD ? TC_PARALLEL_MAX : PARTS_PER_THREAD * threads;
+    int want = threads > TC_PARALLEL_MAX / per ? TC_PARALLEL_MAX : per * threads;
     if (min_part < 1) min_part = 1;
     int32_t most = n / min_part;
     return most < 1 ? 1 : most < want ? (int)most : want;
+}
+
+int tc__parallel_parts(int threads, int32_t n, int32_t min_part) {
+    return parts_of(threads, n, min_part, PARTS_PER_THREAD);
+}
+
+int tc__parallel_thread_parts(int threads, int32_t n, int32_t min_part) {
+    return parts_of(threads, n, min_part, 1);
 }
 
 /* The pool: workers 1 .. nthreads - 1 take parts of the loop in hand with the
@@ -173,7 +182,7 @@ static void own_threads(loop_parts *lp, int nthreads) {
         if (started[k]) pthread_join(tid[k], NULL);
 }
 
-static void run_loop(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
+static void run_loop(int threads, int32_t n, int parts, tc__part_fn fn, void *ctx);
 
 /* ---- tracing (tc__parallel_trace) ---- */
 
@@ -205,13 +214,13 @@ static void traced_part(void *ctx, int32_t lo, int32_t hi, int part) {
     while (wall > seen && !atomic_compare_exchange_weak(&tl->slowest_ns, &seen, wall)) continue;
 }
 
-static void traced_run(tc__loop_record *rec, int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
+static void traced_run(tc__loop_record *rec, int threads, int32_t n, int parts, tc__part_fn fn, void *ctx) {
     int i = atomic_fetch_add(&trace.count, 1);
     traced_loop tl = {fn, ctx, 0, 0};
     double t0 = 1e-9 * (double)clock_ns(CLOCK_MONOTONIC);
-    run_loop(threads, n, min_part, traced_part, &tl);
+    run_loop(threads, n, parts, traced_part, &tl);
     if (i >= trace.cap) return;
-    rec[i] = (tc__loop_record){(const void *)fn, n, n > 0 ? tc__parallel_parts(threads, n, min_part) : 0, t0,
+    rec[i] = (tc__loop_record){(const void *)fn, n, n > 0 ? parts : 0, t0,
                                1e-9 * (double)clock_ns(CLOCK_MONOTONIC), 1e-9 * (double)atomic_load(&tl.cpu_ns),
                                1e-9 * (double)atomic_load(&tl.slowest_ns)};
 }
@@ -225,14 +234,22 @@ int tc__parallel_trace(tc__loop_record *rec, int cap) {
     return had;
 }
 
-void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
+/* The loop in `parts` parts, traced while tc__parallel_trace records. */
+static void dispatch(int threads, int32_t n, int parts, tc__part_fn fn, void *ctx) {
     tc__loop_record *rec = atomic_load_explicit(&trace.rec, memory_order_relaxed);
-    if (rec) traced_run(rec, threads, n, min_part, fn, ctx);
-    else run_loop(threads, n, min_part, fn, ctx);
+    if (rec) traced_run(rec, threads, n, parts, fn, ctx);
+    else run_loop(threads, n, parts, fn, ctx);
 }
 
-static void run_loop(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
-    int parts = tc__parallel_parts(threads, n, min_part);
+void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
+    dispatch(threads, n, tc__parallel_parts(threads, n, min_part), fn, ctx);
+}
+
+void tc__parallel_for_threads(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx) {
+    dispatch(threads, n, tc__parallel_thread_parts(threads, n, min_part), fn, ctx);
+}
+
+static void run_loop(int threads, int32_t n, int parts, tc__part_fn fn, void *ctx) {
     if (n <= 0) return;
     if (parts == 1) {
         fn(ctx, 0, n, 0);

@@ -29,6 +29,13 @@ int tc__parallel_parts(int threads, int32_t n, int32_t min_part);
  * failure, only less parallel. */
 void tc__parallel_for(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
 
+/* The same with one part per thread (at most `threads` parts, of at least min_part
+ * items; tc__parallel_thread_parts says how many), for loops whose parts each pay a
+ * set-up of their own that more parts would repeat: a buffer of fresh memory for
+ * its text (io/textpar.c), a render worker's scratch (raster.c). */
+int tc__parallel_thread_parts(int threads, int32_t n, int32_t min_part);
+void tc__parallel_for_threads(int threads, int32_t n, int32_t min_part, tc__part_fn fn, void *ctx);
+
 /* One loop as tc__parallel_trace records it (bench/perf/phases.c: where a
  * build's time goes on each thread count, and what runs between its loops). */
 typedef struct {

@@ -704,7 +704,7 @@ static int valid_viewport(const tc_viewport *vp) {
            (size_t)vp->width * (size_t)vp->height <= SIZE_MAX / (sizeof(float) * TC_MAX_CHANNELS);
 }
 
-/* One worker as a part of a tc__parallel_for loop whose parts are the workers. */
+/* One worker as a part of a tc__parallel_for_threads loop whose parts are the workers. */
 static void worker_part(void *ctx, int32_t lo, int32_t hi, int part) {
     (void)lo, (void)hi, (void)part;
     worker(ctx);
@@ -718,7 +718,7 @@ static void run_threads(job *jb, int n) {
     if (n > TC_PARALLEL_MAX) n = TC_PARALLEL_MAX;
     if (n > jb->nbands) n = jb->nbands;
     if (n <= 1) worker(jb);
-    else tc__parallel_for(n, n, 1, worker_part, jb);
+    else tc__parallel_for_threads(n, n, 1, worker_part, jb);
 }
 
 int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, const tc_render_options *ropt,

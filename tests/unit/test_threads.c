@@ -530,6 +530,23 @@ TEST(threads_parts_several_per_thread) {
         int once = 1;
         for (int32_t i = 0; i < N; i++) once &= x[i] == 1;
         CHECK_MSG(once, "%d threads: an index not run exactly once", threads);
+        memset(x, 0, N * sizeof *x);
+        tc__parallel_for_threads(threads, N, 100, count_part, x);
+        once = 1;
+        for (int32_t i = 0; i < N; i++) once &= x[i] == 1;
+        CHECK_MSG(once, "%d threads, one part each: an index not run exactly once", threads);
     }
     free(x);
+}
+
+/* One part per thread (textpar's answer buffers, the render's workers): no more parts
+ * than threads, as many as the items allow. */
+TEST(threads_one_part_per_thread) {
+    CHECK(tc__parallel_thread_parts(1, 1 << 20, 1) == 1);
+    CHECK(tc__parallel_thread_parts(2, 1 << 20, 2048) == 2);
+    CHECK(tc__parallel_thread_parts(16, 16, 1) == 16);
+    CHECK(tc__parallel_thread_parts(16, 20, 1) == 16);
+    CHECK(tc__parallel_thread_parts(200, 1 << 20, 1) == TC_PARALLEL_MAX);
+    CHECK(tc__parallel_thread_parts(4, 5000, 2000) == 2);
+    CHECK(tc__parallel_thread_parts(4, 500, 1000) == 1);
 }
