@@ -473,12 +473,7 @@ static limited shrink_group(group *G, int32_t w, double *planes) {
  * is at one vertex, so a part touches only its own wedges' planes), with its
  * own work space and tally. */
 typedef struct {
-    const struct tc_mesh *m;
-    const tc__wedge_set *ws;
-    const double *cz;
-    const tc__bounds *b;
-    tc__plane_dirs_fn dirs;
-    const void *ctx;
+    group inputs; /* the mesh, wedges, values, bounds and directions every part's group reads */
     double *planes;
     tc__range_tally tally[TC_PARALLEL_MAX];
     int nomem[TC_PARALLEL_MAX];
@@ -486,8 +481,8 @@ typedef struct {
 
 static void planes_part(void *pctx, int32_t vlo, int32_t vhi, int part) {
     planes_pass *pp = pctx;
-    const struct tc_mesh *m = pp->m;
-    const tc__wedge_set *ws = pp->ws;
+    const struct tc_mesh *m = pp->inputs.m;
+    const tc__wedge_set *ws = pp->inputs.ws;
     enum { ROWS_MAX = TC_QP_MAXM };
     tc__range_tally *tally = &pp->tally[part];
     memset(tally, 0, sizeof *tally);
@@ -498,9 +493,7 @@ static void planes_part(void *pctx, int32_t vlo, int32_t vhi, int part) {
         free(rows), free(work);
         return;
     }
-    group G;
-    memset(&G, 0, sizeof G);
-    G.m = m, G.ws = ws, G.cz = pp->cz, G.b = pp->b, G.dirs = pp->dirs, G.ctx = pp->ctx;
+    group G = pp->inputs;
     G.rows = rows, G.cap = ROWS_MAX;
     G.C = work, G.Aeq = work + TC_QP_MAXM * TC_QP_MAXN, G.rhs = G.Aeq + TC_QP_MAXEQ * TC_QP_MAXN;
     for (int32_t w = tc__first_wedge_at(ws, vlo), end = tc__first_wedge_at(ws, vhi); w < end; w++) {
@@ -513,7 +506,7 @@ static void planes_part(void *pctx, int32_t vlo, int32_t vhi, int part) {
             G.k = k > 0 ? k : 1;
             memcpy(G.w, members, (size_t)G.k * sizeof *members);
             limited lim = k > 0 && gather_rows(&G) == 0 ? limit_group(&G, pp->planes) : shrink_group(&G, w, pp->planes);
-            if (lim.move > TC_RANGE_MATERIAL * pp->b->span[ch]) tc__range_note(tally, 1 - lim.factor, ws->w[w].v, -1);
+            if (lim.move > TC_RANGE_MATERIAL * G.b->span[ch]) tc__range_note(tally, 1 - lim.factor, ws->w[w].v, -1);
         }
     }
     free(rows);
@@ -528,7 +521,7 @@ void tc__range_tally_merge(tc__range_tally *into, const tc__range_tally *part) {
 
 int tc__range_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const double *cz, const tc__bounds *b,
                      tc__plane_dirs_fn dirs, const void *ctx, double *planes, tc__range_stats *stats) {
-    planes_pass pp = {.m = m, .ws = ws, .cz = cz, .b = b, .dirs = dirs, .ctx = ctx, .planes = planes};
+    planes_pass pp = {.inputs = {.m = m, .ws = ws, .cz = cz, .b = b, .dirs = dirs, .ctx = ctx}, .planes = planes};
     tc__parallel_for(ws->threads, m->nv, 4096, planes_part, &pp);
     int rc = TC_OK;
     for (int p = 0; p < tc__parallel_parts(ws->threads, m->nv, 4096); p++) {
