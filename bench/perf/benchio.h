@@ -1,5 +1,5 @@
-/* benchio.h — the two things every program of bench/perf/ needs: a clock in seconds and a
- * whole file in memory. Header-only: each benchmark is one .c file linked with libtocher.a. */
+/* benchio.h — what every program of bench/perf/ needs: a clock in seconds, a whole file in
+ * memory, the scattered points. Header-only: each benchmark is one .c file linked with libtocher.a. */
 #ifndef BENCH_PERF_BENCHIO_H
 #define BENCH_PERF_BENCHIO_H
 
@@ -28,6 +28,19 @@ static inline char *bench_slurp(const char *path, size_t *len) {
     fclose(f);
     if (buf) buf[n] = 0, *len = (size_t)n;
     return buf;
+}
+
+/* DIR/points.f64 (bench/perf/meshes.py's scattered points: x, y doubles) holding at least
+ * n points; NULL, said on stderr as prog's complaint, if it is missing or short. free() it. */
+static inline double *bench_points(const char *dir, size_t n, const char *prog) {
+    char path[1024];
+    size_t len;
+    snprintf(path, sizeof path, "%s/points.f64", dir);
+    char *raw = bench_slurp(path, &len);
+    if (raw && len >= n * 2 * sizeof(double)) return (double *)(void *)raw;
+    fprintf(stderr, "%s: %s: missing or short\n", prog, path);
+    free(raw);
+    return NULL;
 }
 
 #endif

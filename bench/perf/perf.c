@@ -368,21 +368,14 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: bench_perf DIR NAME...\n");
         return 2;
     }
-    char path[1024];
-    size_t len;
-    snprintf(path, sizeof path, "%s/points.f64", argv[1]);
-    char *raw = bench_slurp(path, &len);
-    if (!raw || len < NSCATTER * 2 * sizeof(double)) {
-        fprintf(stderr, "bench_perf: %s: missing or short\n", path);
-        return 1;
-    }
-    double *scatter = (double *)(void *)raw, *tile = malloc((size_t)TILE * TILE * 2 * sizeof *tile);
+    double *scatter = bench_points(argv[1], NSCATTER, "bench_perf"), *tile = malloc((size_t)TILE * TILE * 2 * sizeof *tile);
+    if (!scatter) return 1;
     tile_points(tile);
     warm_image_stack();
     printf("{\"tile\": %d, \"scattered\": %d, \"meshes\": {", TILE, NSCATTER);
     for (int i = 2; i < argc; i++) bench_mesh(argv[1], argv[i], scatter, tile, i == 2);
     printf("\n}}\n");
     free(tile);
-    free(raw);
+    free(scatter);
     return 0;
 }

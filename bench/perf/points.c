@@ -134,16 +134,10 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: bench_points DIR NAME...\n");
         return 2;
     }
-    char path[1024];
-    size_t len;
-    snprintf(path, sizeof path, "%s/points.f64", argv[1]);
-    char *raw = bench_slurp(path, &len);
-    if (!raw || len < NPTS * 2 * sizeof(double)) {
-        fprintf(stderr, "bench_points: %s: missing or short\n", path);
-        return 1;
-    }
+    double *raw = bench_points(argv[1], NPTS, "bench_points");
+    if (!raw) return 1;
     printf("{\"points\": %d, \"meshes\": {", NPTS);
-    for (int i = 2; i < argc; i++) bench_mesh(argv[1], argv[i], (const double *)(const void *)raw, i == 2);
+    for (int i = 2; i < argc; i++) bench_mesh(argv[1], argv[i], raw, i == 2);
     printf("\n}}\n");
     free(raw);
     return 0;
