@@ -288,10 +288,14 @@ class Page:
         return r["result"].get("value")
 
     def state(self):
-        return self.js("(() => { const c = document.getElementById('canvas'); if (!c) return null; const d = c.dataset;"
+        # None until the whole page is parsed: polled right after Page.navigate, the parser may have
+        # made the canvas but not yet #info or #status (a CI run failed on that once).
+        return self.js("(() => { if (document.readyState === 'loading') return null;"
+                       " const c = document.getElementById('canvas'), i = document.getElementById('info'),"
+                       " s = document.getElementById('status'); if (!c || !i || !s) return null; const d = c.dataset;"
                        " return {view: d.view ? JSON.parse(d.view) : null, pending: +d.pending, loaded: +d.loaded,"
-                       " failed: +d.failed, tiles: +d.tiles, mesh: document.getElementById('info').dataset.id || null,"
-                       " status: document.getElementById('status').textContent}; })()")
+                       " failed: +d.failed, tiles: +d.tiles, mesh: i.dataset.id || null,"
+                       " status: s.textContent}; })()")
 
     def wait(self, what, ok, timeout=15):
         """Polls state() until ok(state) or the deadline: the last state, or None on time-out."""
