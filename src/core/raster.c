@@ -35,6 +35,8 @@ typedef struct {
     const double *ys; /* [rows] pixel-centre y of each row rendered (from row0), likewise */
     int32_t row0, rows; /* the rows rendered: [row0, row0 + rows) of vp, stored from values/owner's row 0 */
     int grain_lo, grain_hi; /* every centre of xs and ys a multiple of 2^grain_lo, below 2^grain_hi in magnitude */
+    int nc;              /* r->m->nc: read once, not behind two pointers in every four pixels */
+    double per_x;        /* vp->width / (vp->x1 - vp->x0): pixels per unit along a row (row guesses only) */
     int32_t nbands;
     atomic_int next_band;
     atomic_int timed_out;
@@ -56,8 +58,9 @@ static inline int32_t *own_row(const band *bd, int32_t j) {
  * n pixels starting at origin with the given step (widened by one pixel on each
  * side: the exact test below decides, this only has to be a superset). */
 static void pixel_range(double a, double b, double origin, double step, int32_t n, int32_t *lo, int32_t *hi) {
+    /* Divided, not multiplied by pixels per unit: that overflows for a subnormal step. */
     double fa = (a - origin) / step - 0.5, fb = (b - origin) / step - 0.5;
-    double l = floor(fmin(fa, fb)) - 1, h = ceil(fmax(fa, fb)) + 1;
+    double l = floor(fa < fb ? fa : fb) - 1, h = ceil(fa > fb ? fa : fb) + 1; /* fmin, fmax: calls */
     *lo = !(l >= 0) ? 0 : l >= n ? n : (int32_t)l; /* NaN (never from finite input): the whole range */
     *hi = !(h < n) ? n - 1 : h < 0 ? -1 : (int32_t)h;
 }
@@ -90,6 +93,7 @@ typedef struct {
     double slope[3]; /* dx/dy of edge k -> k+1 (row_hull's guess) */
     double dy[3];    /* y[k+1] - y[k], as orient_sign computes it */
     int exact;       /* every orientation at a centre of the tile is computed exactly (lattice) */
+    uint8_t floor0[TC_MAX_CHANNELS]; /* the recon's: a copy beside the rest store_lanes reads */
     int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff is set */
     tc__ct_fast ff;
 } tri;
@@ -166,7 +170,7 @@ static void shade_pixels(const band *bd, const tri *tr, int32_t j, double y, int
     while (hi >= lo && row[hi] != t) hi--;
     if (lo <= hi)
         shade_run(jb, tr, t, jb->xs + lo, y, hi - lo + 1,
-                  jb->values + ((size_t)(j - jb->row0) * (size_t)jb->vp->width + (size_t)lo) * (size_t)jb->r->m->nc);
+                  jb->values + ((size_t)(j - jb->row0) * (size_t)jb->vp->width + (size_t)lo) * (size_t)jb->nc);
 }
 
 typedef float v4f __attribute__((vector_size(16)));
@@ -193,14 +197,14 @@ TC__V4_INLINE tc__v4d vabs(tc__v4d a) {
  * this band's thread alone). */
 TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], tc__v4d x, unsigned mask,
                                  int full, float *out) {
-    int nc = jb->r->m->nc;
+    int nc = jb->nc;
     tc__v4d v[TC_MAX_CHANNELS];
     tc__ct_fast_lanes(&tr->ff, K, x, v);
     for (int ch = 0; ch < nc; ch++) {
-        v4f f = __builtin_convertvector(v[ch], v4f);
-        v4f big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
-        f = fsel(f < -big, -big, fsel(f > big, big, f)); /* as tile_float */
-        if (jb->r->floor0[ch]) f = fsel(f < (v4f){0, 0, 0, 0}, (v4f){0, 0, 0, 0}, f); /* as tc__floored */
+        v4f f = __builtin_convertvector(v[ch], v4f), big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
+        /* SSE's max(a, b) is a > b ? a : b, so a NaN f comes through max(c, f) and min(c, f) */
+        f = __builtin_ia32_minps(big, __builtin_ia32_maxps(-big, f)); /* as tile_float */
+        if (tr->floor0[ch]) f = __builtin_ia32_maxps((v4f){0, 0, 0, 0}, f); /* as tc__floored: -0 kept */
         if (nc == 1 && mask == 15) { /* one channel, four pixels of the row, all stored */
             memcpy(out, &f, sizeof f);
             continue;
@@ -416,7 +420,7 @@ TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y,
                                int32_t hi, int *first_out, int *last_out) {
     const job *jb = bd->jb;
     const struct tc__slot *s = tr->s;
-    int nc = jb->r->m->nc;
+    int nc = jb->nc;
     size_t row = (size_t)(j - jb->row0) * (size_t)jb->vp->width;
     int32_t *orow = own_row(bd, j);
     float *vrow = jb->values + row * (size_t)nc;
@@ -457,7 +461,7 @@ TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y,
  * triangle, its row and its x (ct_fast.h), not on its lane. */
 TC__V4_INLINE void fill_run(const band *bd, const tri *tr, int32_t j, double y, int32_t a, int32_t b) {
     const job *jb = bd->jb;
-    int nc = jb->r->m->nc;
+    int nc = jb->nc;
     int32_t *orow = own_row(bd, j), n = b - a + 1, t = tr->s->t;
     float *vrow = jb->values + (size_t)(j - jb->row0) * (size_t)jb->vp->width * (size_t)nc;
     double K[3];
@@ -537,7 +541,7 @@ TC__V4_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int3
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
     const struct tc__slot *s = tr->s;
-    double y = jb->ys[j - jb->row0], xl, xr, per_x = vp->width / (vp->x1 - vp->x0), l[3];
+    double y = jb->ys[j - jb->row0], xl, xr, per_x = jb->per_x, l[3];
     if (!row_hull(tr, y, &xl, &xr)) return;
     for (int k = 0; k < 3; k++) {
         int n = k == 2 ? 0 : k + 1;
@@ -575,6 +579,17 @@ __attribute__((target("avx2,fma"))) static void cover_rows_avx2(const band *bd, 
 
 static int force_generic;
 
+/* Aspect <= TC__CT_FAST_ASPECT (ct_fast.h's premise): the longest edge squared at most that
+ * many times twice the area, from the frame's edges, without a square root. */
+static int fast_shape(const tc__eval_frame *f) {
+    double longest = 0;
+    for (int q = 0; q < 3; q++) {
+        double sq = f->e[q][0] * f->e[q][0] + f->e[q][1] * f->e[q][1];
+        longest = sq > longest ? sq : longest; /* fmax is a call at -O2 */
+    }
+    return longest <= TC__CT_FAST_ASPECT * fabs(tc__cross(f->e[0], f->e[1]));
+}
+
 void tc__raster_force_generic(int on) {
     force_generic = on;
 }
@@ -611,14 +626,15 @@ static void cover(void *ctx, const struct tc__slot *s) {
         tr.dy[k] = s->y[n] - s->y[k];
     }
     tr.exact = lattice_exact(jb, s);
+    memcpy(tr.floor0, jb->r->floor0, sizeof tr.floor0);
     tr.fast = 0;
     if (jb->r->eval == tc__ct_eval && box >= 16) {
         tc__frame_corners(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
-        tr.fast = tc__face_aspect(jb->r->m, s->t) <= TC__CT_FAST_ASPECT;
+        tr.fast = fast_shape(&tr.f);
     }
     if (tr.fast)
-        tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->r->m->nc * (size_t)jb->r->ncoef,
-                            jb->r->m->nc, &tr.ff);
+        tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->nc * (size_t)jb->r->ncoef,
+                            jb->nc, &tr.ff);
     else
         tc__frame(jb->r->m, s->t, &tr.f);
     if (!force_generic && __builtin_cpu_supports("avx2")) cover_rows_avx2(bd, &tr, j0, j1, i0, i1);
@@ -631,7 +647,7 @@ static void cover(void *ctx, const struct tc__slot *s) {
 static void settle_band(const band *bd) {
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
-    int nc = jb->r->m->nc;
+    int nc = jb->nc;
     for (int32_t j = bd->j0; j < bd->j1; j++) {
         double y = jb->ys[j - jb->row0];
         size_t row = (size_t)(j - jb->row0) * (size_t)vp->width;
@@ -740,8 +756,8 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     int grain_lo = INT32_MAX / 2, grain_hi = INT32_MIN / 2;
     for (int32_t i = 0; i < vp->width; i++) widen_grain(xs[i], &grain_lo, &grain_hi);
     for (int32_t j = 0; j < rows; j++) widen_grain(ys[j], &grain_lo, &grain_hi);
-    job jb = {r, L, vp, ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
-              (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
+    job jb = {r,        L,         vp,       ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
+              r->m->nc, vp->width / (vp->x1 - vp->x0), (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     free(xs), free(ys);
     return atomic_load(&jb.no_memory) ? TC_ENOMEM : atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;

@@ -17,6 +17,10 @@ TC__V4_INLINE tc__v4d tc__splat(double x) {
     return (tc__v4d){x, x, x, x};
 }
 
+TC__V4_INLINE tc__v4i tc__splat_i(int64_t x) {
+    return (tc__v4i){x, x, x, x};
+}
+
 /* m ? a : b, lane by lane (m all ones or all zeros): exact. */
 TC__V4_INLINE tc__v4d tc__sel(tc__v4i m, tc__v4d a, tc__v4d b) {
     tc__v4i ia, ib;

@@ -250,10 +250,9 @@ TEST(raster_fast_lanes_mixed_equal_single) {
             for (int l = 0; l < 4; l++) x[l] = xmin + (xmax - xmin) * trng_uniform(&rng);
             tc__ct_fast_row(&ff, y, K);
             tc__ct_fast_lanes(&ff, K, x, v);
-            tc__v4d lam[3];
-            for (int q = 0; q < 3; q++)
-                lam[q] = (tc__splat(K[q]) - tc__splat(ff.ey[q]) * (x - tc__splat(ff.ax[q]))) * tc__splat(ff.inv[q]);
-            unsigned b0 = tc__mask4((lam[0] <= lam[1]) & (lam[0] <= lam[2]));
+            tc__v4d dx = x - tc__splat(ff.x0), d01 = tc__splat(K[0]) + tc__splat(ff.gx[0]) * dx;
+            tc__v4d d02 = tc__splat(K[1]) + tc__splat(ff.gx[1]) * dx; /* as tc__ct_fast_lanes: l0 - l1, l0 - l2 */
+            unsigned b0 = tc__mask4((d01 <= tc__splat(0)) & (d02 <= tc__splat(0)));
             mixed += b0 != 0 && b0 != 15;
             for (int l = 0; l < 4; l++) {
                 tc__ct_fast_lanes(&ff, K, tc__splat(x[l]), one);
