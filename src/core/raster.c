@@ -608,6 +608,10 @@ static void cover(void *ctx, const struct tc__slot *s) {
     const tc_viewport *vp = jb->vp;
     double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
     for (int k = 0; k < 3; k++) widen(s->x[k], &xmin, &xmax), widen(s->y[k], &ymin, &ymax);
+    /* Centres go down the band's rows (ys non-increasing): none between ymin and ymax when the
+     * top one is below ymin or the bottom one above ymax, the common case of a triangle the
+     * locator gives this band only for its neighbour's rows (the test below, made early). */
+    if (jb->ys[bd->j0 - jb->row0] < ymin || jb->ys[bd->j1 - 1 - jb->row0] > ymax) return;
     int32_t i0, i1, j0, j1;
     pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, vp->width, &i0, &i1);
     /* Rows count downwards from y1. */
