@@ -16,7 +16,7 @@
  * the form, and the Horner scheme's rounding is at most ~7 ulps of the sum of its terms'
  * magnitudes, each coefficient a sum of at most nine Bernstein weights times ordinate
  * differences (|A|, |B| <= 1 on the subtriangle): a few 1e-13 of the ordinates' largest
- * magnitude at worst, ~1e-15 measured (tests/unit/test_raster.c). Where rounding picks the
+ * magnitude at worst, 4.3e-16 measured (tests/unit/test_raster.c). Where rounding picks the
  * neighbouring subtriangle, the two cubics agree to C1 there.
  * Nothing is fused or reassociated (-std=c11: no contraction), so the AVX2 and the portable
  * builds give the same bits, and a pixel's value depends only on the triangle, its row and
