@@ -400,6 +400,10 @@ typedef struct {
                                * pixel as the whole tile's, so a tile may be rendered in bands */
 } tc_render_options;
 
+/* tc_render's unit of work for its threads, in rows: a caller that renders a tile in bands
+ * (row0/rows) wastes least with bands of a multiple of it. */
+#define TC_RENDER_BAND_ROWS 32
+
 /* Milliseconds of CLOCK_MONOTONIC: the clock of deadline_ms (and of every timing). */
 double tc_now_ms(void);
 

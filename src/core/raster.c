@@ -17,10 +17,11 @@
 #include "core/parallel.h"
 #include "core/recon.h"
 
-/* Rows per unit of work: few enough parts per tile to waste little on their boundaries (each a
- * locator query, and a second set-up of the triangles that cross it: 32 rows render a 1024² tile
- * 5-7% faster per thread than 16 did), enough to balance threads (128 parts in a 4096² tile). */
-#define BAND_ROWS 32
+/* Rows per unit of work (tocher.h): few enough parts per tile to waste little on their
+ * boundaries (each a locator query, and a second set-up of the triangles that cross it: 32 rows
+ * render a 1024² tile 5-7% faster per thread than 16 did), enough to balance threads (128 parts
+ * in a 4096² tile). */
+#define BAND_ROWS TC_RENDER_BAND_ROWS
 
 void tc_viewport_pixel_center(const tc_viewport *vp, int32_t i, int32_t j, double *x, double *y) {
     *x = vp->x0 + (vp->x1 - vp->x0) * ((i + 0.5) / vp->width);

@@ -330,9 +330,9 @@ void tc_api_add_timings(tc_strbuf *out, const tc_api_result *res) {
 
 /* A render is rasterized and encoded a band of rows at a time, so that it
  * holds at most its encoded answer (grown in place, handed to the response
- * without a copy) and one band: ~8 MiB of working floats, at least 16 rows
- * (tc_render's unit of work for its threads). */
-enum { BAND_BYTES = 8 << 20, BAND_MIN_ROWS = 16 };
+ * without a copy) and one band: ~8 MiB of working floats, a multiple of
+ * tc_render's unit of work for its threads. */
+enum { BAND_BYTES = 8 << 20, BAND_MIN_ROWS = TC_RENDER_BAND_ROWS };
 
 /* One band's pixels: values, coverage (alpha) and owners, freed together. */
 typedef struct {
