@@ -71,9 +71,9 @@ $(BUILD)/obj/%.o: %.c
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 # GCC notes that 32-byte vectors passed by value change the ABI without AVX: they pass only
-# between always-inline functions of one build, never across a call (ct_span.c, ct_fast.h, ct_fast512.c,
+# between always-inline functions of one build, never across a call (ct_span.c, ct_fast.h,
 # ct_points.c).
-$(BUILD)/obj/src/core/ct_span.o $(BUILD)/obj/src/core/ct_fast.o $(BUILD)/obj/src/core/ct_fast512.o $(BUILD)/obj/src/core/raster.o \
+$(BUILD)/obj/src/core/ct_span.o $(BUILD)/obj/src/core/ct_fast.o $(BUILD)/obj/src/core/raster.o \
   $(BUILD)/obj/src/core/ct_points.o $(BUILD)/obj/tests/unit/test_raster.o: ALL_CFLAGS += -Wno-psabi
 # The render loop is worth -O3 (unrolling, +17% Mpixel/s per thread measured on a 1024² tile of
 # 8192 triangles); only where the build is optimized anyway (`make check` keeps its -O1).

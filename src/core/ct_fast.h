@@ -44,13 +44,6 @@ typedef struct {
 
 void tc__ct_fast_prepare(const tc__eval_frame *f, const double *coef, int nc, tc__ct_fast *ff);
 
-/* Pixels 0 .. n - 1 of a row (centres xs, constants R), eight at a time with AVX-512
- * (ct_fast512.c), stored as the tile stores them (nc floats a pixel, floor0: clamp channel ch's
- * negative values to 0): the bits tc__ct_fast_lanes gives. Only where tc__ct_fast_run8_ok(). */
-int tc__ct_fast_run8_ok(void);
-void tc__ct_fast_run8(const tc__ct_fast *ff, const double R[3], const double *xs, int32_t n, const uint8_t *floor0,
-                      float *out);
-
 /* Tests: 1 makes tc_render use the portable build of its row loop (raster.c), 0 lets the CPU choose. */
 void tc__raster_force_generic(int on);
 

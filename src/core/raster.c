@@ -41,7 +41,6 @@ typedef struct {
     int grain_lo, grain_hi; /* every centre of xs and ys a multiple of 2^grain_lo, below 2^grain_hi in magnitude */
     int nc;              /* r->m->nc: read once, not behind two pointers in every four pixels */
     double per_x;        /* vp->width / (vp->x1 - vp->x0): pixels per unit along a row (row guesses only) */
-    int run8;            /* fast runs eight pixels at a time (tc__ct_fast_run8: AVX-512) */
     int32_t nbands;
     atomic_int next_band;
     atomic_int timed_out;
@@ -479,11 +478,6 @@ TC__V4_INLINE void fill_run(const band *bd, const tri *tr, int32_t j, double y, 
     float *vrow = jb->values + (size_t)(j - jb->row0) * (size_t)jb->vp->width * (size_t)nc;
     double K[3];
     tc__ct_fast_row(&tr->ff, y, K);
-    if (jb->run8) {
-        for (int32_t i = a; i <= b; i++) orow[i] = t;
-        tc__ct_fast_run8(&tr->ff, K, jb->xs + a, n, tr->floor0, vrow + (size_t)a * (size_t)nc);
-        return;
-    }
     if (n < 4) {
         for (int32_t i = a; i <= b; i++) orow[i] = t;
         int full = a + 4 <= jb->vp->width;
@@ -797,7 +791,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     for (int32_t i = 0; i < vp->width; i++) widen_grain(xs[i], &grain_lo, &grain_hi);
     for (int32_t j = 0; j < rows; j++) widen_grain(ys[j], &grain_lo, &grain_hi);
     job jb = {r,        L,         vp,       ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
-              r->m->nc, vp->width / (vp->x1 - vp->x0), !force_generic && tc__ct_fast_run8_ok() && !getenv("TC_NO_RUN8"), (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
+              r->m->nc, vp->width / (vp->x1 - vp->x0), (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     free(xs), free(ys);
     return atomic_load(&jb.no_memory) ? TC_ENOMEM : atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;
