@@ -106,7 +106,9 @@ typedef struct {
     double dy[3];    /* y[k+1] - y[k], as orient_sign computes it */
     int exact;       /* every orientation at a centre of the tile is computed exactly (lattice) */
     uint8_t floor0[TC_MAX_CHANNELS]; /* the recon's: a copy beside the rest store_lanes reads */
-    int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff is set */
+    int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff and the hull below are set */
+    double hx[3], hy[3]; /* fast: the corners from the top (largest y) down */
+    double hs[3];        /* fast: dx/dy of top -> bottom, top -> middle, middle -> bottom */
     tc__ct_fast ff;
 } tri;
 
@@ -119,6 +121,16 @@ static inline void widen(double x, double *xl, double *xr) {
 }
 
 static inline int row_hull(const tri *tr, double y, double *xl, double *xr) {
+    if (tr->fast) { /* a triangle of area > 0: the long edge and one of the two others, no loop */
+        if (!(y <= tr->hy[0] && y >= tr->hy[2])) return 0; /* as below: no edge's span holds y */
+        double xlong = tr->hx[0] + (y - tr->hy[0]) * tr->hs[0];
+        /* each slope read only where its edge spans rows (not horizontal): finite */
+        double xs = y > tr->hy[1]   ? tr->hx[0] + (y - tr->hy[0]) * tr->hs[1]
+                    : y < tr->hy[1] ? tr->hx[1] + (y - tr->hy[1]) * tr->hs[2]
+                                    : tr->hx[1];
+        *xl = xlong < xs ? xlong : xs, *xr = xlong > xs ? xlong : xs;
+        return 1;
+    }
     const struct tc__slot *s = tr->s;
     int any = 0;
     *xl = INFINITY, *xr = -INFINITY;
@@ -647,6 +659,19 @@ static void cover(void *ctx, const struct tc__slot *s) {
     if (jb->r->eval == tc__ct_eval && box >= 16) {
         tc__frame_corners(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
         tr.fast = fast_shape(&tr.f);
+    }
+    if (tr.fast) {
+        int top = 0, bot = 0; /* the first corner of largest y, the first of least, the third between */
+        for (int k = 1; k < 3; k++) {
+            if (s->y[k] > s->y[top]) top = k;
+            if (s->y[k] < s->y[bot]) bot = k;
+        }
+        int mid = 3 - top - bot; /* top != bot: the area is > 0 */
+        const int order[3] = {top, mid, bot};
+        for (int q = 0; q < 3; q++) tr.hx[q] = s->x[order[q]], tr.hy[q] = s->y[order[q]];
+        tr.hs[0] = (tr.hx[2] - tr.hx[0]) / (tr.hy[2] - tr.hy[0]);
+        tr.hs[1] = (tr.hx[1] - tr.hx[0]) / (tr.hy[1] - tr.hy[0]);
+        tr.hs[2] = (tr.hx[2] - tr.hx[1]) / (tr.hy[2] - tr.hy[1]);
     }
     if (tr.fast)
         tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->nc * (size_t)jb->r->ncoef,
