@@ -105,6 +105,9 @@ typedef struct {
     double slope[3]; /* dx/dy of edge k -> k+1 (row_hull's guess) */
     double dy[3];    /* y[k+1] - y[k], as orient_sign computes it */
     int exact;       /* every orientation at a centre of the tile is computed exactly (lattice) */
+    double inside[3]; /* exact: an orientation d is inside edge k when d > inside[k]: 0, or for an edge
+                       * whose points the triangle owns, -2^-1010 (d >= 0: on the lattice a nonzero d
+                       * is a multiple of 2^-1000 or coarser, lattice_exact; no subnormal involved) */
     uint8_t floor0[TC_MAX_CHANNELS]; /* the recon's: a copy beside the rest store_lanes reads */
     int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff and the hull below are set */
     double hx[3], hy[3]; /* fast: the corners from the top (largest y) down */
@@ -369,7 +372,7 @@ TC__V4_INLINE void classify_at(const band *bd, const tri *tr, int32_t j, double 
     if (tr->exact) { /* lattice_exact: each computed sign is the exact one */
         for (int e = 0; e < 3; e++) {
             tc__v4d d = tc__splat(l[e]) - tc__splat(tr->dy[e]) * (x - tc__splat(s->x[e]));
-            in &= s->left >> e & 1u ? d >= tc__splat(0) : d > tc__splat(0);
+            in &= d > tc__splat(tr->inside[e]);
             out |= d < tc__splat(0);
         }
         *inb = tc__mask4(in) & valid, *outb = tc__mask4(out) & valid;
@@ -654,6 +657,7 @@ static void cover(void *ctx, const struct tc__slot *s) {
         tr.dy[k] = s->y[n] - s->y[k];
     }
     tr.exact = lattice_exact(jb, s);
+    for (int k = 0; k < 3; k++) tr.inside[k] = s->left >> k & 1u ? -0x1p-1010 : 0;
     memcpy(tr.floor0, jb->r->floor0, sizeof tr.floor0);
     tr.fast = 0;
     if (jb->r->eval == tc__ct_eval && box >= 16) {
