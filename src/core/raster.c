@@ -97,6 +97,9 @@ static inline float tile_float(double v) {
     return isinf(f) ? copysignf(FLT_MAX, f) : f;
 }
 
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4si __attribute__((vector_size(16)));
+
 /* A triangle as one band meets it: its slot (the exact ownership tests), its
  * evaluation frame, and for the cubic of a well-shaped triangle its fast form. */
 typedef struct {
@@ -108,7 +111,7 @@ typedef struct {
     double inside[3]; /* exact: an orientation d is inside edge k when d > inside[k]: 0, or for an edge
                        * whose points the triangle owns, -2^-1010 (d >= 0: on the lattice a nonzero d
                        * is a multiple of 2^-1000 or coarser, lattice_exact; no subnormal involved) */
-    uint8_t floor0[TC_MAX_CHANNELS]; /* the recon's: a copy beside the rest store_lanes reads */
+    v4f low[TC_MAX_CHANNELS]; /* store_lanes' lower clamp: 0 where the recon floors channel ch, else -FLT_MAX */
     int fast;        /* the cubic, and aspect <= TC__CT_FAST_ASPECT: ff and the hull below are set */
     double hx[3], hy[3]; /* fast: the corners from the top (largest y) down */
     double hs[3];        /* fast: dx/dy of top -> bottom, top -> middle, middle -> bottom */
@@ -200,9 +203,6 @@ static void shade_pixels(const band *bd, const tri *tr, int32_t j, double y, int
                   jb->values + ((size_t)(j - jb->row0) * (size_t)jb->vp->width + (size_t)lo) * (size_t)jb->nc);
 }
 
-typedef float v4f __attribute__((vector_size(16)));
-typedef int32_t v4si __attribute__((vector_size(16)));
-
 /* m ? a : b, lane by lane, for floats. */
 TC__V4_INLINE v4f fsel(v4si m, v4f a, v4f b) {
     v4si ia, ib, r;
@@ -228,10 +228,11 @@ TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], 
     tc__v4d v[TC_MAX_CHANNELS];
     tc__ct_fast_lanes(&tr->ff, K, x, v);
     for (int ch = 0; ch < nc; ch++) {
-        v4f f = __builtin_convertvector(v[ch], v4f), big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
-        /* SSE's max(a, b) is a > b ? a : b, so a NaN f comes through max(c, f) and min(c, f) */
-        f = __builtin_ia32_minps(big, __builtin_ia32_maxps(-big, f)); /* as tile_float */
-        if (tr->floor0[ch]) f = __builtin_ia32_maxps((v4f){0, 0, 0, 0}, f); /* as tc__floored: -0 kept */
+        v4f f = __builtin_convertvector(v[ch], v4f), big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}, low;
+        /* as tile_float, then tc__floored: SSE's max(a, b) is a > b ? a : b, so a NaN or a -0
+         * f comes through max(c, f) and min(c, f); low is -FLT_MAX, or 0 for a floored channel */
+        memcpy(&low, &tr->low[ch], sizeof low);
+        f = __builtin_ia32_minps(big, __builtin_ia32_maxps(low, f));
         if (nc == 1 && mask == 15) { /* one channel, four pixels of the row, all stored */
             memcpy(out, &f, sizeof f);
             continue;
@@ -658,7 +659,10 @@ static void cover(void *ctx, const struct tc__slot *s) {
     }
     tr.exact = lattice_exact(jb, s);
     for (int k = 0; k < 3; k++) tr.inside[k] = s->left >> k & 1u ? -0x1p-1010 : 0;
-    memcpy(tr.floor0, jb->r->floor0, sizeof tr.floor0);
+    for (int ch = 0; ch < jb->nc; ch++) {
+        float lo = jb->r->floor0[ch] ? 0.0f : -FLT_MAX;
+        tr.low[ch] = (v4f){lo, lo, lo, lo};
+    }
     tr.fast = 0;
     if (jb->r->eval == tc__ct_eval && box >= 16) {
         tc__frame_corners(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
