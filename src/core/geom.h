@@ -71,6 +71,17 @@ typedef struct {
     double dl1[2], dl2[2];
 } tc__eval_frame;
 
+/* The frame's edges and inv_a from its corners f->p. */
+static inline void tc__frame_edges(tc__eval_frame *f) {
+    for (int i = 0; i < 3; i++) {
+        const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
+        double ca[2];
+        tc__sub(f->e[i], b, a);
+        tc__sub(ca, f->p[i], a);
+        f->inv_a[i] = 1 / tc__cross(f->e[i], ca);
+    }
+}
+
 /* The part of the frame the renderer's fast cubic reads (ct_fast.h): corners, edges, inv_a. */
 static inline void tc__frame_corners(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
     TC_ASSERT(t >= 0 && t < m->nt && f);
@@ -79,13 +90,7 @@ static inline void tc__frame_corners(const struct tc_mesh *m, int32_t t, tc__eva
         const double *q = tc__vxy(m, v[i]);
         f->p[i][0] = q[0], f->p[i][1] = q[1];
     }
-    for (int i = 0; i < 3; i++) {
-        const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
-        double ca[2];
-        tc__sub(f->e[i], b, a);
-        tc__sub(ca, f->p[i], a);
-        f->inv_a[i] = 1 / tc__cross(f->e[i], ca);
-    }
+    tc__frame_edges(f);
 }
 
 static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {

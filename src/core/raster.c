@@ -607,6 +607,18 @@ __attribute__((target("avx2,fma"))) static void cover_rows_avx2(const band *bd, 
 
 static int force_generic;
 
+/* tc__frame_corners's frame, its corners taken from the slot (the locator's copy, in cache)
+ * instead of the mesh's vertex array: the slot holds them counter-clockwise, the mesh's order
+ * with corners 1 and 2 swapped where the triangle is clockwise (locate.c's fill_slot). */
+static void frame_from_slot(const tc_mesh *m, const struct tc__slot *s, tc__eval_frame *f) {
+    int cw = m->orient[s->t] < 0;
+    for (int i = 0; i < 3; i++) {
+        int k = cw && i ? 3 - i : i;
+        f->p[i][0] = s->x[k], f->p[i][1] = s->y[k];
+    }
+    tc__frame_edges(f);
+}
+
 /* Aspect <= TC__CT_FAST_ASPECT (ct_fast.h's premise): the longest edge squared at most that
  * many times twice the area, from the frame's edges, without a square root. */
 static int fast_shape(const tc__eval_frame *f) {
@@ -665,7 +677,7 @@ static void cover(void *ctx, const struct tc__slot *s) {
     }
     tr.fast = 0;
     if (jb->r->eval == tc__ct_eval && box >= 16) {
-        tc__frame_corners(jb->r->m, s->t, &tr.f); /* what the fast form reads: no more divisions */
+        frame_from_slot(jb->r->m, s, &tr.f); /* what the fast form reads: no more divisions */
         tr.fast = fast_shape(&tr.f);
     }
     if (tr.fast) {
@@ -698,6 +710,7 @@ static void cover_later(void *ctx, const struct tc__slot *s) {
     const char *c = (const char *)(r->coef + (size_t)s->t * (size_t)bd->jb->nc * (size_t)r->ncoef);
     for (size_t off = 0; off < (size_t)bd->jb->nc * (size_t)r->ncoef * sizeof(double); off += 64)
         __builtin_prefetch(c + off);
+    __builtin_prefetch(&r->m->orient[s->t]); /* frame_from_slot's */
     if (bd->nheld == PREFETCH_AHEAD) {
         cover(bd, bd->held[bd->first]);
         bd->held[bd->first] = s;
