@@ -93,8 +93,8 @@ static inline void tc__frame_corners(const struct tc_mesh *m, int32_t t, tc__eva
     tc__frame_edges(f);
 }
 
-static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
-    tc__frame_corners(m, t, f);
+/* The rest of the frame (inv_b, the gradients) once tc__frame_edges has run. */
+static inline void tc__frame_rest(tc__eval_frame *f) {
     for (int i = 0; i < 3; i++) {
         double cb[2];
         tc__sub(cb, f->p[i], f->p[(i + 2) % 3]);
@@ -106,6 +106,11 @@ static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame 
     double inv = 1 / tc__cross(e1, e2);
     f->dl1[0] = e2[1] * inv, f->dl1[1] = -e2[0] * inv;
     f->dl2[0] = -e1[1] * inv, f->dl2[1] = e1[0] * inv;
+}
+
+static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
+    tc__frame_corners(m, t, f);
+    tc__frame_rest(f);
 }
 
 /* Each lam[i] is the signed area over the point and the edge opposite corner

@@ -634,6 +634,47 @@ void tc__raster_force_generic(int on) {
     force_generic = on;
 }
 
+/* A fast triangle's corners from the top down and the slopes of its edges (row_hull's). */
+static void sort_hull(tri *tr) {
+    const struct tc__slot *s = tr->s;
+    int top = 0, bot = 0; /* the first corner of largest y, the first of least, the third between */
+    for (int k = 1; k < 3; k++) {
+        if (s->y[k] > s->y[top]) top = k;
+        if (s->y[k] < s->y[bot]) bot = k;
+    }
+    const int order[3] = {top, 3 - top - bot, bot}; /* top != bot: the area is > 0 */
+    for (int q = 0; q < 3; q++) tr->hx[q] = s->x[order[q]], tr->hy[q] = s->y[order[q]];
+    tr->hs[0] = (tr->hx[2] - tr->hx[0]) / (tr->hy[2] - tr->hy[0]);
+    tr->hs[1] = (tr->hx[1] - tr->hx[0]) / (tr->hy[1] - tr->hy[0]);
+    tr->hs[2] = (tr->hx[2] - tr->hx[1]) / (tr->hy[2] - tr->hy[1]);
+}
+
+/* Everything the rows of triangle s read, set once per triangle and band. The fast form
+ * costs ~30 operations per channel to set up: not worth it for a triangle whose box covers
+ * fewer than 16 pixels of the tile (a 524k mesh on a 1024² tile). */
+static void tri_setup(const job *jb, const struct tc__slot *s, int64_t box, tri *tr) {
+    tr->s = s;
+    for (int k = 0; k < 3; k++) {
+        int n = k == 2 ? 0 : k + 1;
+        tr->slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
+        tr->dy[k] = s->y[n] - s->y[k];
+        tr->inside[k] = s->left >> k & 1u ? -0x1p-1010 : 0;
+    }
+    tr->exact = lattice_exact(jb, s);
+    for (int ch = 0; ch < jb->nc; ch++) {
+        float lo = jb->r->floor0[ch] ? 0.0f : -FLT_MAX;
+        tr->low[ch] = (v4f){lo, lo, lo, lo};
+    }
+    frame_from_slot(jb->r->m, s, &tr->f);
+    tr->fast = jb->r->eval == tc__ct_eval && box >= 16 && fast_shape(&tr->f);
+    if (!tr->fast) {
+        tc__frame_rest(&tr->f); /* the exact evaluation's whole frame, tc__frame's */
+        return;
+    }
+    sort_hull(tr);
+    tc__ct_fast_prepare(&tr->f, jb->r->coef + (size_t)s->t * (size_t)jb->nc * (size_t)jb->r->ncoef, jb->nc, &tr->ff);
+}
+
 static void cover(void *ctx, const struct tc__slot *s) {
     const band *bd = ctx;
     const job *jb = bd->jb;
@@ -648,10 +689,9 @@ static void cover(void *ctx, const struct tc__slot *s) {
     pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, vp->width, &i0, &i1);
     /* Rows count downwards from y1. */
     pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, vp->height, &j0, &j1);
-    /* The fast form costs ~30 operations per channel to set up: not worth it for a
-     * triangle that covers a few pixels of the tile (a 524k mesh on a 1024² tile). Judged
-     * on the tile's rows, not the band's: a pixel must not depend on how the tile is cut
-     * into bands (tc_render_options.row0/rows, BAND_ROWS). */
+    /* The box that decides the fast form (tri_setup), judged on the tile's rows, not the
+     * band's: a pixel must not depend on how the tile is cut into bands
+     * (tc_render_options.row0/rows, BAND_ROWS). */
     int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
     if (j0 < bd->j0) j0 = bd->j0;
     if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
@@ -663,41 +703,7 @@ static void cover(void *ctx, const struct tc__slot *s) {
     while (jm <= j1 && !(jb->ys[jm - jb->row0] >= ymin && jb->ys[jm - jb->row0] <= ymax)) jm++;
     if (jm > j1) return;
     tri tr;
-    tr.s = s;
-    for (int k = 0; k < 3; k++) {
-        int n = k == 2 ? 0 : k + 1;
-        tr.slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
-        tr.dy[k] = s->y[n] - s->y[k];
-    }
-    tr.exact = lattice_exact(jb, s);
-    for (int k = 0; k < 3; k++) tr.inside[k] = s->left >> k & 1u ? -0x1p-1010 : 0;
-    for (int ch = 0; ch < jb->nc; ch++) {
-        float lo = jb->r->floor0[ch] ? 0.0f : -FLT_MAX;
-        tr.low[ch] = (v4f){lo, lo, lo, lo};
-    }
-    tr.fast = 0;
-    if (jb->r->eval == tc__ct_eval && box >= 16) {
-        frame_from_slot(jb->r->m, s, &tr.f); /* what the fast form reads: no more divisions */
-        tr.fast = fast_shape(&tr.f);
-    }
-    if (tr.fast) {
-        int top = 0, bot = 0; /* the first corner of largest y, the first of least, the third between */
-        for (int k = 1; k < 3; k++) {
-            if (s->y[k] > s->y[top]) top = k;
-            if (s->y[k] < s->y[bot]) bot = k;
-        }
-        int mid = 3 - top - bot; /* top != bot: the area is > 0 */
-        const int order[3] = {top, mid, bot};
-        for (int q = 0; q < 3; q++) tr.hx[q] = s->x[order[q]], tr.hy[q] = s->y[order[q]];
-        tr.hs[0] = (tr.hx[2] - tr.hx[0]) / (tr.hy[2] - tr.hy[0]);
-        tr.hs[1] = (tr.hx[1] - tr.hx[0]) / (tr.hy[1] - tr.hy[0]);
-        tr.hs[2] = (tr.hx[2] - tr.hx[1]) / (tr.hy[2] - tr.hy[1]);
-    }
-    if (tr.fast)
-        tc__ct_fast_prepare(&tr.f, jb->r->coef + (size_t)s->t * (size_t)jb->nc * (size_t)jb->r->ncoef,
-                            jb->nc, &tr.ff);
-    else
-        tc__frame(jb->r->m, s->t, &tr.f);
+    tri_setup(jb, s, box, &tr);
     if (!force_generic && __builtin_cpu_supports("avx2")) cover_rows_avx2(bd, &tr, j0, j1, i0, i1);
     else cover_rows_generic(bd, &tr, j0, j1, i0, i1);
 }
