@@ -88,6 +88,13 @@ TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], t
      * group that shares one subtriangle, for one evaluation instead of three. */
     a = tc__sel(is0, d01, tc__sel(is1, d12, d02));
     b = tc__sel(is0, d02, tc__sel(is1, d01, d12));
+#ifdef __clang__ /* no __builtin_shuffle (the fuzzing build): the same coefficients, selected */
+    for (int ch = 0; ch < ff->nc; ch++) {
+        for (int k = 0; k < TC__NH; k++) {
+            const tc__v4d hk = ff->h[ch][k];
+            h[k] = tc__sel(is0, tc__splat(hk[0]), tc__sel(is1, tc__splat(hk[1]), tc__splat(hk[2])));
+        }
+#else
     typedef int32_t v8si __attribute__((vector_size(32)));
     tc__v4i sub = tc__splat_i(2) + is0 + is0 + is1, pair = sub * tc__splat_i(2) * tc__splat_i(INT64_C(0x100000001)) + tc__splat_i(INT64_C(1) << 32);
     v8si idx;
@@ -99,6 +106,7 @@ TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], t
             w = __builtin_shuffle(w, idx);
             memcpy(&h[k], &w, sizeof w);
         }
+#endif
         v[ch] = tc__ct_fast_horner(h, a, b);
     }
 }
