@@ -71,7 +71,8 @@ typedef struct {
     double dl1[2], dl2[2];
 } tc__eval_frame;
 
-/* The frame's edges and inv_a from its corners f->p. */
+/* The frame's edges and inv_a from its corners f->p: all the renderer's fast cubic reads
+ * (ct_fast.h), with the corners from the locator's slot (raster.c). */
 static inline void tc__frame_edges(tc__eval_frame *f) {
     for (int i = 0; i < 3; i++) {
         const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
@@ -80,17 +81,6 @@ static inline void tc__frame_edges(tc__eval_frame *f) {
         tc__sub(ca, f->p[i], a);
         f->inv_a[i] = 1 / tc__cross(f->e[i], ca);
     }
-}
-
-/* The part of the frame the renderer's fast cubic reads (ct_fast.h): corners, edges, inv_a. */
-static inline void tc__frame_corners(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
-    TC_ASSERT(t >= 0 && t < m->nt && f);
-    const int32_t *v = m->tri + 3 * (size_t)t;
-    for (int i = 0; i < 3; i++) {
-        const double *q = tc__vxy(m, v[i]);
-        f->p[i][0] = q[0], f->p[i][1] = q[1];
-    }
-    tc__frame_edges(f);
 }
 
 /* The rest of the frame (inv_b, the gradients) once tc__frame_edges has run. */
@@ -109,7 +99,13 @@ static inline void tc__frame_rest(tc__eval_frame *f) {
 }
 
 static inline void tc__frame(const struct tc_mesh *m, int32_t t, tc__eval_frame *f) {
-    tc__frame_corners(m, t, f);
+    TC_ASSERT(t >= 0 && t < m->nt && f);
+    const int32_t *v = m->tri + 3 * (size_t)t;
+    for (int i = 0; i < 3; i++) {
+        const double *q = tc__vxy(m, v[i]);
+        f->p[i][0] = q[0], f->p[i][1] = q[1];
+    }
+    tc__frame_edges(f);
     tc__frame_rest(f);
 }
 

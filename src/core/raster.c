@@ -607,7 +607,7 @@ __attribute__((target("avx2,fma"))) static void cover_rows_avx2(const band *bd, 
 
 static int force_generic;
 
-/* tc__frame_corners's frame, its corners taken from the slot (the locator's copy, in cache)
+/* tc__frame's corners and edges, the corners taken from the slot (the locator's copy, in cache)
  * instead of the mesh's vertex array: the slot holds them counter-clockwise, the mesh's order
  * with corners 1 and 2 swapped where the triangle is clockwise (locate.c's fill_slot). */
 static void frame_from_slot(const tc_mesh *m, const struct tc__slot *s, tc__eval_frame *f) {
