@@ -313,14 +313,10 @@ static int point_less(double ax, double ay, double bx, double by) {
 /* Fills a slot with triangle t, corners turned counter-clockwise. */
 static void fill_slot(struct slot *s, const struct tc_mesh *m, int32_t t) {
     const int32_t *v = m->tri + 3 * (size_t)t;
-    int32_t ccw[3] = {v[0], v[1], v[2]};
-    if (m->orient[t] < 0) {
-        ccw[1] = v[2];
-        ccw[2] = v[1];
-    }
     for (int k = 0; k < 3; k++) {
-        s->x[k] = m->xy[2 * (size_t)ccw[k]];
-        s->y[k] = m->xy[2 * (size_t)ccw[k] + 1];
+        int32_t c = v[tc__slot_corner(m->orient[t] < 0, k)];
+        s->x[k] = m->xy[2 * (size_t)c];
+        s->y[k] = m->xy[2 * (size_t)c + 1];
     }
     s->t = t;
     s->left = 0;

@@ -17,6 +17,13 @@ struct tc__slot {
 
 enum { TC_SLOT_OUT = 0, TC_SLOT_TOUCH = 1, TC_SLOT_OWN = 2 };
 
+/* The mesh corner a slot's corner k holds (and the slot corner holding mesh corner k: the
+ * map is its own inverse): a slot keeps the corners counter-clockwise, the mesh's order with
+ * corners 1 and 2 swapped where the triangle is clockwise (orient < 0). */
+static inline int tc__slot_corner(int clockwise, int k) {
+    return clockwise && k ? 3 - k : k;
+}
+
 /* TC_SLOT_OWN if the triangle owns (x, y) by the strict rule, TC_SLOT_TOUCH if it
  * only contains it in the closed sense, else TC_SLOT_OUT. Exact. */
 int tc__slot_test(const struct tc__slot *s, double x, double y);

@@ -608,12 +608,10 @@ __attribute__((target("avx2,fma"))) static void cover_rows_avx2(const band *bd, 
 static int force_generic;
 
 /* tc__frame's corners and edges, the corners taken from the slot (the locator's copy, in cache)
- * instead of the mesh's vertex array: the slot holds them counter-clockwise, the mesh's order
- * with corners 1 and 2 swapped where the triangle is clockwise (locate.c's fill_slot). */
+ * instead of the mesh's vertex array, back in the mesh's order. */
 static void frame_from_slot(const tc_mesh *m, const struct tc__slot *s, tc__eval_frame *f) {
-    int cw = m->orient[s->t] < 0;
     for (int i = 0; i < 3; i++) {
-        int k = cw && i ? 3 - i : i;
+        int k = tc__slot_corner(m->orient[s->t] < 0, i);
         f->p[i][0] = s->x[k], f->p[i][1] = s->y[k];
     }
     tc__frame_edges(f);
