@@ -105,7 +105,7 @@ typedef int32_t v4si __attribute__((vector_size(16)));
 typedef struct {
     const struct tc__slot *s;
     tc__eval_frame f;
-    double slope[3]; /* dx/dy of edge k -> k+1 (row_hull's guess) */
+    double slope[3]; /* not fast: dx/dy of edge k -> k+1 (row_hull's guess) */
     double dy[3];    /* y[k+1] - y[k], as orient_sign computes it */
     int exact;       /* every orientation at a centre of the tile is computed exactly (lattice) */
     double inside[3]; /* exact: an orientation d is inside edge k when d > inside[k]: 0, or for an edge
@@ -653,9 +653,7 @@ static void sort_hull(tri *tr) {
 static void tri_setup(const job *jb, const struct tc__slot *s, int64_t box, tri *tr) {
     tr->s = s;
     for (int k = 0; k < 3; k++) {
-        int n = k == 2 ? 0 : k + 1;
-        tr->slope[k] = (s->x[n] - s->x[k]) / (s->y[n] - s->y[k]);
-        tr->dy[k] = s->y[n] - s->y[k];
+        tr->dy[k] = s->y[k == 2 ? 0 : k + 1] - s->y[k];
         tr->inside[k] = s->left >> k & 1u ? -0x1p-1010 : 0;
     }
     tr->exact = lattice_exact(jb, s);
@@ -667,6 +665,7 @@ static void tri_setup(const job *jb, const struct tc__slot *s, int64_t box, tri 
     tr->fast = jb->r->eval == tc__ct_eval && box >= 16 && fast_shape(&tr->f);
     if (!tr->fast) {
         tc__frame_rest(&tr->f); /* the exact evaluation's whole frame, tc__frame's */
+        for (int k = 0; k < 3; k++) tr->slope[k] = (s->x[k == 2 ? 0 : k + 1] - s->x[k]) / tr->dy[k];
         return;
     }
     sort_hull(tr);
