@@ -62,6 +62,25 @@ TC__V4_INLINE void tc__ct_fast_row(const tc__ct_fast *ff, double y, double R[3])
     R[0] = 1 + ff->gy[0] * dy, R[1] = 1 + ff->gy[1] * dy, R[2] = ff->gy[2] * dy;
 }
 
+/* Lane l of the result: lane s of h, s lane l's subtriangle (0 where is0, 1 where is1, else 2).
+ * A permutation of the 32-bit halves (AVX2's vpermd; loop-invariant index, computed once where
+ * inlined); clang, the fuzzing build, has no __builtin_shuffle and selects instead. Exact. */
+TC__V4_INLINE tc__v4d tc__ct_fast_own(tc__v4d h, tc__v4i is0, tc__v4i is1) {
+#ifdef __clang__
+    return tc__sel(is0, tc__splat(h[0]), tc__sel(is1, tc__splat(h[1]), tc__splat(h[2])));
+#else
+    typedef int32_t v8si __attribute__((vector_size(32)));
+    tc__v4i sub = tc__splat_i(2) + is0 + is0 + is1; /* the masks are -1 or 0 */
+    tc__v4i pair = sub * tc__splat_i(INT64_C(0x200000002)) + tc__splat_i(INT64_C(1) << 32);
+    v8si idx, w; /* lane l: halves 2 sub[l] and 2 sub[l] + 1 */
+    memcpy(&idx, &pair, sizeof idx);
+    memcpy(&w, &h, sizeof w);
+    w = __builtin_shuffle(w, idx);
+    memcpy(&h, &w, sizeof h);
+    return h;
+#endif
+}
+
 /* Values v[ch] at the four centres (x[l], y) of the row whose constants R gives. */
 TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], tc__v4d x, tc__v4d *v) {
     tc__v4d t = x - tc__splat(ff->x0);
@@ -82,31 +101,13 @@ TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], t
         }
         return;
     }
-    /* Lanes on both sides of an inner edge: each lane's own subtriangle's D's selected and
-     * its coefficients moved into the lane (a permutation of the 32-bit halves, AVX2's
-     * vpermd: exact), then tc__ct_fast_horner's operations: the same bits as a lane of a
-     * group that shares one subtriangle, for one evaluation instead of three. */
+    /* Lanes on both sides of an inner edge: each lane's own subtriangle's D's and coefficients
+     * (tc__ct_fast_own), then tc__ct_fast_horner's operations: the same bits as a lane of a group
+     * that shares one subtriangle, for one evaluation instead of three. */
     a = tc__sel(is0, d01, tc__sel(is1, d12, d02));
     b = tc__sel(is0, d02, tc__sel(is1, d01, d12));
-#ifdef __clang__ /* no __builtin_shuffle (the fuzzing build): the same coefficients, selected */
     for (int ch = 0; ch < ff->nc; ch++) {
-        for (int k = 0; k < TC__NH; k++) {
-            const tc__v4d hk = ff->h[ch][k];
-            h[k] = tc__sel(is0, tc__splat(hk[0]), tc__sel(is1, tc__splat(hk[1]), tc__splat(hk[2])));
-        }
-#else
-    typedef int32_t v8si __attribute__((vector_size(32)));
-    tc__v4i sub = tc__splat_i(2) + is0 + is0 + is1, pair = sub * tc__splat_i(2) * tc__splat_i(INT64_C(0x100000001)) + tc__splat_i(INT64_C(1) << 32);
-    v8si idx;
-    memcpy(&idx, &pair, sizeof idx); /* lane l: halves 2 sub[l] and 2 sub[l] + 1 */
-    for (int ch = 0; ch < ff->nc; ch++) {
-        for (int k = 0; k < TC__NH; k++) {
-            v8si w;
-            memcpy(&w, &ff->h[ch][k], sizeof w);
-            w = __builtin_shuffle(w, idx);
-            memcpy(&h[k], &w, sizeof w);
-        }
-#endif
+        for (int k = 0; k < TC__NH; k++) h[k] = tc__ct_fast_own(ff->h[ch][k], is0, is1);
         v[ch] = tc__ct_fast_horner(h, a, b);
     }
 }
