@@ -345,6 +345,18 @@ def tile_requests(page):
     return got
 
 
+def tile_requests_once(page, ok, timeout=10):
+    """tile_requests(page) once ok(it) holds, or the last one after timeout seconds. Chromium sends
+    its Network events apart from the page's script: the page may have drawn a tile before its
+    responseReceived reaches this client (a run failed on that), so a check of them waits."""
+    end = min(time.time() + timeout, DEADLINE)
+    while True:
+        reqs = tile_requests(page)
+        if ok(reqs) or time.time() >= end:
+            return reqs
+        time.sleep(0.05)
+
+
 def close_to(a, b):
     if isinstance(a, list) or isinstance(b, list):
         return isinstance(a, list) and isinstance(b, list) and len(a) == len(b) and all(map(close_to, a, b))
@@ -418,10 +430,11 @@ def main():
           page.js("document.getElementById('method').disabled") and
           "JSON file" in page.js("document.getElementById('method-note').textContent"))
 
-    reqs = tile_requests(page)
     z = st["view"]["z"]
     # Answered ones only: a tile that left the screen before its answer is cancelled (no status).
-    mine = [r for r in reqs.values() if r[1] == mid and r[2] == z and r[6] is not None]
+    answered = lambda reqs: [r for r in reqs.values() if r[1] == mid and r[2] == z and r[6] is not None]
+    reqs = tile_requests_once(page, lambda reqs: len(answered(reqs)) >= st["tiles"])
+    mine = answered(reqs)
     check("the page asked for the tiles on screen (%d at zoom level %d), each answered 200" % (st["tiles"], z),
           len(mine) >= st["tiles"] and all(r[6] == 200 for r in mine) and all("size=256" in r[5] for r in mine),
           [(r[0], r[6]) for r in reqs.values()][:6])
@@ -484,7 +497,8 @@ def main():
     page.js("document.getElementById('overlay').click()")
     st2 = page.settled("overlay on: the tiles redrawn", lambda st2: st2["loaded"] >= st["loaded"] + st2["tiles"])
     if st2:
-        over = [r for r in tile_requests(page).values() if "overlay=true" in r[5] and r[6] is not None]
+        overlaid = lambda reqs: [r for r in reqs.values() if "overlay=true" in r[5] and r[6] is not None]
+        over = overlaid(tile_requests_once(page, overlaid))
         shot2 = page.screenshot()
         changed = sum(pixel(shot, x, y) != pixel(shot2, x, y) for y in range(top, top + ch, 3)
                       for x in range(left, left + cw, 3))
@@ -505,8 +519,8 @@ def main():
     st4 = page.settled("wheel zoom: a finer level drawn", lambda st: st["view"]["z"] > z)
     if st4:
         z4 = st4["view"]["z"]
-        check("wheel zoom asks for zoom level %d tiles" % z4,
-              any(r[2] == z4 and r[6] == 200 for r in tile_requests(page).values()))
+        finer = lambda reqs: any(r[2] == z4 and r[6] == 200 for r in reqs.values())
+        check("wheel zoom asks for zoom level %d tiles" % z4, finer(tile_requests_once(page, finer)))
         drag = (("mousePressed", cx), ("mouseMoved", cx + 60), ("mouseMoved", cx + 120), ("mouseReleased", cx + 120))
         for kind, x in drag:
             page.call("Input.dispatchMouseEvent", {"type": kind, "x": x, "y": cy, "button": "left", "clickCount": 1,
@@ -552,8 +566,8 @@ def main():
             status, linfo = api.json("GET", "/v1/meshes/" + lid)
             check("it is the same data with method linear", status == 200 and linfo.get("method") == "linear"
                   and linfo.get("triangles") == info["triangles"], "%s %s" % (status, linfo))
-            check("its tiles are asked and answered",
-                  any(r[1] == lid and r[6] == 200 for r in tile_requests(page).values()))
+            of_lid = lambda reqs: any(r[1] == lid and r[6] == 200 for r in reqs.values())
+            check("its tiles are asked and answered", of_lid(tile_requests_once(page, of_lid)))
             check("the address bar names it", page.js("location.search") == "?mesh=" + lid,
                   page.js("location.search"))
             chosen = os.path.join(TMP, "shadow-ps.json")
