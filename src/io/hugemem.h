@@ -1,5 +1,6 @@
-/* hugemem.h — advice that a big buffer (an answer, a request body, a decoded array) be
- * backed by transparent huge pages, so that filling it costs a few faults, not thousands. */
+/* hugemem.h — big buffers (an answer, a request body, a decoded array): backed by transparent
+ * huge pages, so that filling one costs a few faults, not thousands; and the one spare block
+ * that a sent answer leaves for the next, so that its pages need not be faulted in again. */
 #ifndef TC_IO_HUGEMEM_H
 #define TC_IO_HUGEMEM_H
 
@@ -19,8 +20,27 @@
  * "madvise" mode, the default of many distributions). A no-op where the advice is unknown. */
 void tc__huge_advise(void *p, size_t n);
 
-/* realloc(p, n), then the advice for the new block. */
+/* realloc(p, n), then the advice for the new block. A fresh big block (n >= TC_HUGE_MIN, p
+ * NULL or smaller than that) is the spare (tc__huge_free) when there is one of at least n bytes:
+ * p's bytes are copied into it and p freed, as realloc would. */
 void *tc__huge_realloc(void *p, size_t n);
+
+/* free(p); except that a big block (TC_HUGE_MIN .. TC_HUGE_SPARE_MAX usable bytes) becomes the
+ * process's one spare, and the spare it replaces is freed. Why: glibc gives every block from
+ * 32 MiB its own mapping and unmaps it on free, so each big answer was written into fresh
+ * pages, which the kernel zeroes as they fault in: measured on the 2-core VM, the JSON
+ * ordinates of 131k triangles (49 MB) took 78-158 ms to print into fresh pages and 43-45 ms
+ * into the last answer's. The spare's pages are given to the kernel as lazily free
+ * (MADV_FREE): under memory pressure it takes them back (and the next write faults them in
+ * again, zeroed), otherwise they are reused as they are. So an idle daemon holds at most one
+ * spare, reclaimable, outside the render budget (--max-memory). */
+void tc__huge_free(void *p);
+
+/* The largest spare kept: a bigger answer's faults are small beside its own work. */
+#define TC_HUGE_SPARE_MAX ((size_t)256 << 20)
+
+/* Test hook: the spare's usable size, 0 when there is none. */
+size_t tc__huge_spare(void);
 
 /* Test hook: how many blocks got the advice in this thread so far. */
 long tc__huge_advised(void);

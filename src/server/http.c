@@ -11,6 +11,7 @@
 #include <strings.h>
 
 #include "io/api.h"
+#include "io/hugemem.h"
 #include "server/body.h"
 #include "server/conns.h"
 #include "server/framing.h"
@@ -206,7 +207,7 @@ typedef struct {
 
 static void sent_body_free(void *cls) {
     sent_body *sb = cls;
-    free(sb->buf);
+    tc__huge_free(sb->buf); /* a big answer's pages serve the next one (io/hugemem.h) */
     tc_budget_give(sb->budget, sb->held);
     free(sb);
 }

@@ -55,7 +55,13 @@ TEST(hugemem_big_answer_buffer_is_advised) {
     tc_strbuf_free(&b);
 }
 
+/* Empties the process's spare (a daemon's answers leave one): taken as a fresh block, freed. */
+static void no_spare(void) {
+    if (tc__huge_spare()) free(tc__huge_realloc(NULL, TC_HUGE_MIN));
+}
+
 TEST(hugemem_advice_only_from_its_threshold) {
+    no_spare(); /* a block made from the spare is not advised again */
     long a0 = tc__huge_advised();
     char *p = tc__huge_realloc(NULL, TC_HUGE_MIN - 1);
     CHECK(p && tc__huge_advised() == a0);
@@ -64,6 +70,47 @@ TEST(hugemem_advice_only_from_its_threshold) {
     tc__huge_advise(NULL, TC_HUGE_MIN); /* a failed allocation: nothing to advise */
     CHECK(tc__huge_advised() == a0 + 1);
     free(p);
+}
+
+/* The spare (tc__huge_free): a big block freed serves the next fresh big block, with the
+ * small block's bytes it grows from; a small one, one too big to keep, and one too small for
+ * what is asked are freed; and it is usable memory after its pages were given as lazily free. */
+TEST(hugemem_spare_serves_the_next_big_block) {
+    no_spare();
+    CHECK(tc__huge_spare() == 0);
+    tc__huge_free(NULL);
+    tc__huge_free(malloc(1000));
+    CHECK_MSG(tc__huge_spare() == 0, "a 1000-byte block became the spare");
+    size_t n = TC_HUGE_MIN + 4096;
+    char *p = tc__huge_realloc(NULL, n);
+    CHECK(p != NULL);
+    if (!p) return;
+    memset(p, 'p', n);
+    tc__huge_free(p);
+    CHECK_MSG(tc__huge_spare() >= n, "spare %zu bytes after freeing %zu", tc__huge_spare(), n);
+    char *small = malloc(64);
+    CHECK(small != NULL);
+    if (!small) return;
+    memcpy(small, "the answer's first bytes", 25);
+    char *q = tc__huge_realloc(small, n - 100); /* a buffer growing past the threshold */
+    CHECK_MSG(q == p, "the block made was not the spare");
+    CHECK(q && !strcmp(q, "the answer's first bytes"));
+    CHECK(tc__huge_spare() == 0);
+    if (!q) return;
+    memset(q, 'q', n - 100); /* every page writable after MADV_FREE */
+    CHECK(q[0] == 'q' && q[n / 2] == 'q' && q[n - 101] == 'q');
+    tc__huge_free(q);
+    size_t kept = tc__huge_spare();
+    char *r = tc__huge_realloc(NULL, kept + 1); /* more than the spare holds: it goes */
+    CHECK(r != NULL && r != q && tc__huge_spare() == 0);
+    tc__huge_free(r);
+    CHECK(tc__huge_spare() >= kept + 1);
+    char *big = malloc(TC_HUGE_SPARE_MAX + 1); /* not touched: only address space */
+    CHECK(big != NULL);
+    size_t before = tc__huge_spare();
+    tc__huge_free(big);
+    CHECK_MSG(tc__huge_spare() == before, "a block over TC_HUGE_SPARE_MAX replaced the spare");
+    no_spare();
 }
 
 /* The core's big arrays (core/alloc.h, from TC__HUGE_MIN bytes): whole huge pages, advised
