@@ -24,18 +24,35 @@ void tc__huge_advise(void *p, size_t n) {
     tc__advise_huge(p, n); /* the core's madvise: one place knows the huge page and the call */
 }
 
-/* The spare: one big block (or none), under spare_mu. */
+/* The spares: up to SPARES blocks, TC_HUGE_SPARE_MAX bytes in all, under spare_mu (an empty
+ * slot has n == 0). Several: a JSON answer printed on T threads is the answer and T - 1 part
+ * buffers (textpar.c), all big, all fresh otherwise. */
+#define SPARES 8
 static pthread_mutex_t spare_mu = PTHREAD_MUTEX_INITIALIZER;
-static void *spare;
-static size_t spare_size;
+static struct {
+    void *p;
+    size_t n;
+} spare[SPARES];
+static size_t spare_total;
 
-/* The spare if it holds n bytes; NULL otherwise, and a spare too small for n is freed (it
- * would only add to the memory that the block about to be made takes). */
-static void *take_spare(size_t n) {
+static void *unslot(int k) {
+    void *p = spare[k].p;
+    spare_total -= spare[k].n;
+    spare[k].p = NULL, spare[k].n = 0;
+    return p;
+}
+
+void *tc__huge_take(size_t n) {
+    void *s = NULL, *drop = NULL;
     pthread_mutex_lock(&spare_mu);
-    void *s = spare, *drop = NULL;
-    if (s && spare_size < n) drop = s, s = NULL;
-    if (spare && (s || drop)) spare = NULL, spare_size = 0;
+    int best = -1, under = -1; /* the smallest that holds n; the largest that does not */
+    for (int k = 0; k < SPARES; k++) {
+        if (!spare[k].n) continue;
+        if (spare[k].n >= n && (best < 0 || spare[k].n < spare[best].n)) best = k;
+        if (spare[k].n < n && (under < 0 || spare[k].n > spare[under].n)) under = k;
+    }
+    if (best >= 0) s = unslot(best);
+    else if (under >= 0) drop = unslot(under); /* too small now: it would sit beside the new block */
     pthread_mutex_unlock(&spare_mu);
     free(drop);
     return s;
@@ -44,7 +61,7 @@ static void *take_spare(size_t n) {
 void *tc__huge_realloc(void *p, size_t n) {
     size_t had = p ? malloc_usable_size(p) : 0;
     if (n >= TC_HUGE_MIN && had < TC_HUGE_MIN) { /* a fresh big block; a small p is cheap to copy */
-        char *s = take_spare(n);
+        char *s = tc__huge_take(n);
         if (s) {
             if (p) memcpy(s, p, had < n ? had : n);
             free(p);
@@ -70,21 +87,36 @@ static void lazy_free(void *p, size_t n) {
 
 void tc__huge_free(void *p) {
     size_t n = p ? malloc_usable_size(p) : 0;
-    if (n < TC_HUGE_MIN || n > TC_HUGE_SPARE_MAX) {
+    if (n < TC_HUGE_SPARE_MIN || n > TC_HUGE_SPARE_MAX) {
         free(p);
         return;
     }
     lazy_free(p, n);
+    void *drop[SPARES + 1];
+    int ndrop = 0, slot = -1;
     pthread_mutex_lock(&spare_mu);
-    void *old = spare;
-    spare = p, spare_size = n;
+    for (;;) { /* room for n: an empty slot, the total within bounds; else the smallest goes */
+        int empty = -1, least = -1;
+        for (int k = 0; k < SPARES; k++) {
+            if (!spare[k].n) empty = k;
+            else if (least < 0 || spare[k].n < spare[least].n) least = k;
+        }
+        if (empty >= 0 && spare_total + n <= TC_HUGE_SPARE_MAX) {
+            slot = empty;
+            break;
+        }
+        if (least < 0 || spare[least].n > n) break; /* only bigger ones held: p is the one to go */
+        drop[ndrop++] = unslot(least);
+    }
+    if (slot >= 0) spare[slot].p = p, spare[slot].n = n, spare_total += n;
     pthread_mutex_unlock(&spare_mu);
-    free(old);
+    if (slot < 0) drop[ndrop++] = p;
+    for (int k = 0; k < ndrop; k++) free(drop[k]);
 }
 
 size_t tc__huge_spare(void) {
     pthread_mutex_lock(&spare_mu);
-    size_t n = spare ? spare_size : 0;
+    size_t n = spare_total;
     pthread_mutex_unlock(&spare_mu);
     return n;
 }

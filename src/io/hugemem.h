@@ -21,25 +21,32 @@
 void tc__huge_advise(void *p, size_t n);
 
 /* realloc(p, n), then the advice for the new block. A fresh big block (n >= TC_HUGE_MIN, p
- * NULL or smaller than that) is the spare (tc__huge_free) when there is one of at least n bytes:
- * p's bytes are copied into it and p freed, as realloc would. */
+ * NULL or smaller than that) is a spare (tc__huge_take) when one holds n bytes: p's bytes are
+ * copied into it and p freed, as realloc would. */
 void *tc__huge_realloc(void *p, size_t n);
 
-/* free(p); except that a big block (TC_HUGE_MIN .. TC_HUGE_SPARE_MAX usable bytes) becomes the
- * process's one spare, and the spare it replaces is freed. Why: glibc gives every block from
- * 32 MiB its own mapping and unmaps it on free, so each big answer was written into fresh
- * pages, which the kernel zeroes as they fault in: measured on the 2-core VM, the JSON
- * ordinates of 131k triangles (49 MB) took 78-158 ms to print into fresh pages and 43-45 ms
- * into the last answer's. The spare's pages are given to the kernel as lazily free
- * (MADV_FREE): under memory pressure it takes them back (and the next write faults them in
- * again, zeroed), otherwise they are reused as they are. So an idle daemon holds at most one
- * spare, reclaimable, outside the render budget (--max-memory). */
+/* free(p); except that a big block (TC_HUGE_SPARE_MIN .. TC_HUGE_SPARE_MAX usable bytes) is kept
+ * as a spare, up to a few of them and TC_HUGE_SPARE_MAX bytes in all (the smallest go first).
+ * Why: an answer's big buffers (the answer, and the part buffers its text is printed into on
+ * other threads, textpar.c) are their own mappings, which glibc and the core unmap on free, so
+ * each answer was written into fresh pages that the kernel faults in and zeroes again. Measured
+ * on the 2-core VM, the JSON ordinates of 131k triangles (49 MB, two threads): encoding 90-120 ms
+ * into fresh buffers, 40-48 ms into the last answer's. A spare's pages are given to the kernel as
+ * lazily free (MADV_FREE): under memory pressure it takes them back (the next write faults them
+ * in again, zeroed), otherwise they are reused as they are. So an idle daemon holds at most
+ * TC_HUGE_SPARE_MAX, reclaimable, outside the render budget (--max-memory). */
 void tc__huge_free(void *p);
 
-/* The largest spare kept: a bigger answer's faults are small beside its own work. */
-#define TC_HUGE_SPARE_MAX ((size_t)256 << 20)
+/* The smallest spare of at least n bytes, taken (uninitialized, like malloc's); NULL if none,
+ * and then the largest spare smaller than n is freed: it would only sit beside the block the
+ * caller makes instead. Free the result with tc__huge_free (or free). */
+void *tc__huge_take(size_t n);
 
-/* Test hook: the spare's usable size, 0 when there is none. */
+#define TC_HUGE_SPARE_MIN ((size_t)4 << 20)   /* below: glibc's heaps reuse such blocks already */
+#define TC_HUGE_SPARE_MAX ((size_t)256 << 20) /* all spares together; a bigger answer's faults
+                                               * are small beside its own work */
+
+/* Test hook: the bytes the spares hold. */
 size_t tc__huge_spare(void);
 
 /* Test hook: how many blocks got the advice in this thread so far. */

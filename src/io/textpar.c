@@ -7,6 +7,7 @@
 #include "core/alloc.h"
 #include "core/parallel.h"
 #include "io/base64.h"
+#include "io/hugemem.h"
 
 typedef struct {
     tc__text_fn fn;
@@ -23,10 +24,13 @@ static void print_part(void *c, int32_t lo, int32_t hi, int part) {
     size_t items = (size_t)(hi - lo);
     if (j->per_item > 0 && items <= (SIZE_MAX - 1) / j->per_item) {
         size_t bound = items * j->per_item;
-        /* A part's own buffer is fresh memory written once: from 4 MiB on it is taken from
-         * the core's allocator, which asks for huge pages (a part of a big answer is some
-         * 10 MB; in 4 KiB pages its first writes cost more page faults than printing). */
-        char *p = part && !b->cap ? tc__malloc(bound + 1, 1) : NULL;
+        /* A part's own buffer: from 4 MiB on a spare (io/hugemem.h: the last answer's part
+         * buffers, their pages still there), else from the core's allocator, which asks for
+         * huge pages (a part of a big answer is some 10 MB; in fresh 4 KiB pages its first
+         * writes cost more page faults than printing). */
+        char *p = NULL;
+        if (part && !b->cap) p = bound + 1 >= TC_HUGE_SPARE_MIN ? tc__huge_take(bound + 1) : NULL;
+        if (part && !b->cap && !p) p = tc__malloc(bound + 1, 1);
         if (p) tc_strbuf_adopt(b, p, 0, bound + 1);
         tc_strbuf_reserve(b, bound); /* part 0 too: out's caller may have reserved less */
     }
@@ -67,7 +71,7 @@ void tc__text_parallel(tc_strbuf *b, int32_t n, int threads, int32_t min_part, s
     } else {
         b->oom = 1;
     }
-    for (int p = 1; p < parts; p++) tc_strbuf_free(&j.part[p]);
+    for (int p = 1; p < parts; p++) tc__huge_free(j.part[p].buf); /* a spare for the next answer's */
 }
 
 /* Bytes per index of the base64 loop: whole 3-byte groups, so every block but the

@@ -1,6 +1,7 @@
 /* test_hugemem.c — the huge-page advice for big io buffers (io/hugemem.h): an answer buffer
  * that grows past TC_HUGE_MIN gets it (the kernel marks its mapping "hg"), a small one does
  * not, and the advice changes no byte. */
+#include <malloc.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,9 +56,9 @@ TEST(hugemem_big_answer_buffer_is_advised) {
     tc_strbuf_free(&b);
 }
 
-/* Empties the process's spare (a daemon's answers leave one): taken as a fresh block, freed. */
+/* Empties the process's spares (a daemon's answers leave some): each taken, then freed. */
 static void no_spare(void) {
-    if (tc__huge_spare()) free(tc__huge_realloc(NULL, TC_HUGE_MIN));
+    for (void *p; tc__huge_spare() && (p = tc__huge_take(1));) free(p);
 }
 
 TEST(hugemem_advice_only_from_its_threshold) {
@@ -72,22 +73,29 @@ TEST(hugemem_advice_only_from_its_threshold) {
     free(p);
 }
 
-/* The spare (tc__huge_free): a big block freed serves the next fresh big block, with the
- * small block's bytes it grows from; a small one, one too big to keep, and one too small for
- * what is asked are freed; and it is usable memory after its pages were given as lazily free. */
-TEST(hugemem_spare_serves_the_next_big_block) {
+/* The spares (tc__huge_free, tc__huge_take): a big block freed serves the next fresh big
+ * block (tc__huge_realloc, with the small block's bytes it grows from), the smallest that holds
+ * it; a small block and one too big to keep are freed; one too small for what is asked goes; the
+ * smallest go first past TC_HUGE_SPARE_MAX in all; and a spare is usable memory after its pages
+ * were given as lazily free. */
+TEST(hugemem_spares_serve_the_next_big_blocks) {
     no_spare();
     CHECK(tc__huge_spare() == 0);
     tc__huge_free(NULL);
     tc__huge_free(malloc(1000));
-    CHECK_MSG(tc__huge_spare() == 0, "a 1000-byte block became the spare");
-    size_t n = TC_HUGE_MIN + 4096;
-    char *p = tc__huge_realloc(NULL, n);
-    CHECK(p != NULL);
-    if (!p) return;
+    CHECK_MSG(tc__huge_spare() == 0, "a 1000-byte block became a spare");
+    size_t n = TC_HUGE_MIN + 4096, part = TC_HUGE_SPARE_MIN + 100;
+    char *p = tc__huge_realloc(NULL, n), *q0 = malloc(part);
+    CHECK(p && q0);
+    if (!p || !q0) return;
     memset(p, 'p', n);
+    size_t pn = malloc_usable_size(p);
     tc__huge_free(p);
-    CHECK_MSG(tc__huge_spare() >= n, "spare %zu bytes after freeing %zu", tc__huge_spare(), n);
+    tc__huge_free(q0);
+    size_t both = tc__huge_spare();
+    CHECK_MSG(both >= n + part, "spares %zu bytes after freeing %zu and %zu", both, n, part);
+    CHECK_MSG(tc__huge_take(part) == q0, "the smallest spare that holds it was not taken"); /* best fit */
+    tc__huge_free(q0);
     char *small = malloc(64);
     CHECK(small != NULL);
     if (!small) return;
@@ -95,21 +103,28 @@ TEST(hugemem_spare_serves_the_next_big_block) {
     char *q = tc__huge_realloc(small, n - 100); /* a buffer growing past the threshold */
     CHECK_MSG(q == p, "the block made was not the spare");
     CHECK(q && !strcmp(q, "the answer's first bytes"));
-    CHECK(tc__huge_spare() == 0);
+    CHECK(tc__huge_spare() == both - pn);
     if (!q) return;
     memset(q, 'q', n - 100); /* every page writable after MADV_FREE */
     CHECK(q[0] == 'q' && q[n / 2] == 'q' && q[n - 101] == 'q');
     tc__huge_free(q);
-    size_t kept = tc__huge_spare();
-    char *r = tc__huge_realloc(NULL, kept + 1); /* more than the spare holds: it goes */
-    CHECK(r != NULL && r != q && tc__huge_spare() == 0);
-    tc__huge_free(r);
-    CHECK(tc__huge_spare() >= kept + 1);
+    CHECK(tc__huge_spare() == both);
+    char *r = tc__huge_take(n + (8 << 20)); /* more than any spare holds: none, and the largest goes */
+    CHECK(r == NULL && tc__huge_spare() == both - pn);
     char *big = malloc(TC_HUGE_SPARE_MAX + 1); /* not touched: only address space */
     CHECK(big != NULL);
     size_t before = tc__huge_spare();
     tc__huge_free(big);
-    CHECK_MSG(tc__huge_spare() == before, "a block over TC_HUGE_SPARE_MAX replaced the spare");
+    CHECK_MSG(tc__huge_spare() == before, "a block over TC_HUGE_SPARE_MAX became a spare");
+    /* Past TC_HUGE_SPARE_MAX in all: the smallest go. Blocks not touched: only address space. */
+    no_spare();
+    size_t quarter = TC_HUGE_SPARE_MAX / 4;
+    for (int k = 0; k < 4; k++) tc__huge_free(malloc(quarter - (size_t)k * 4096));
+    size_t four = tc__huge_spare();
+    CHECK(four <= TC_HUGE_SPARE_MAX && four >= 4 * quarter - 6 * 4096);
+    tc__huge_free(malloc(quarter));
+    CHECK_MSG(tc__huge_spare() <= TC_HUGE_SPARE_MAX, "spares of %zu bytes, over the bound", tc__huge_spare());
+    CHECK(tc__huge_spare() > four - quarter); /* the smallest went, the new one stayed */
     no_spare();
 }
 
