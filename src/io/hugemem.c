@@ -85,9 +85,10 @@ static void lazy_free(void *p, size_t n) {
 #endif
 }
 
-void tc__huge_free(void *p) {
+/* free(p), or p kept as a spare when its usable size is in [from, TC_HUGE_SPARE_MAX]. */
+static void keep_from(void *p, size_t from) {
     size_t n = p ? malloc_usable_size(p) : 0;
-    if (n < TC_HUGE_SPARE_MIN || n > TC_HUGE_SPARE_MAX) {
+    if (n < from || n > TC_HUGE_SPARE_MAX) {
         free(p);
         return;
     }
@@ -112,6 +113,14 @@ void tc__huge_free(void *p) {
     pthread_mutex_unlock(&spare_mu);
     if (slot < 0) drop[ndrop++] = p;
     for (int k = 0; k < ndrop; k++) free(drop[k]);
+}
+
+void tc__huge_free(void *p) {
+    keep_from(p, TC_HUGE_MIN);
+}
+
+void tc__huge_keep(void *p) {
+    keep_from(p, TC_HUGE_SPARE_MIN);
 }
 
 size_t tc__huge_spare(void) {

@@ -25,24 +25,29 @@ void tc__huge_advise(void *p, size_t n);
  * copied into it and p freed, as realloc would. */
 void *tc__huge_realloc(void *p, size_t n);
 
-/* free(p); except that a big block (TC_HUGE_SPARE_MIN .. TC_HUGE_SPARE_MAX usable bytes) is kept
- * as a spare, up to a few of them and TC_HUGE_SPARE_MAX bytes in all (the smallest go first).
- * Why: an answer's big buffers (the answer, and the part buffers its text is printed into on
- * other threads, textpar.c) are their own mappings, which glibc and the core unmap on free, so
- * each answer was written into fresh pages that the kernel faults in and zeroes again. Measured
- * on the 2-core VM, the JSON ordinates of 131k triangles (49 MB, two threads): encoding 90-120 ms
- * into fresh buffers, 40-48 ms into the last answer's. A spare's pages are given to the kernel as
- * lazily free (MADV_FREE): under memory pressure it takes them back (the next write faults them
- * in again, zeroed), otherwise they are reused as they are. So an idle daemon holds at most
- * TC_HUGE_SPARE_MAX, reclaimable, outside the render budget (--max-memory). */
+/* free(p); except that a big block (TC_HUGE_MIN .. TC_HUGE_SPARE_MAX usable bytes) is kept as a
+ * spare, up to a few of them and TC_HUGE_SPARE_MAX bytes in all (the smallest go first). Why:
+ * glibc gives every block from 32 MiB its own mapping and unmaps it on free (smaller ones it
+ * reuses: their threshold moves up to 32 MiB as such blocks are freed, so they are left to it),
+ * and so each big answer was written into fresh pages that the kernel faults in and zeroes again.
+ * Measured on the 2-core VM, the JSON ordinates of 131k triangles (49 MB, two threads): encoding
+ * 90-170 ms into fresh buffers, 44-51 ms into the last answer's. A spare's pages are given to the
+ * kernel as lazily free (MADV_FREE): under memory pressure it takes them back (the next write
+ * faults them in again, zeroed), otherwise they are reused as they are. So an idle daemon holds
+ * at most TC_HUGE_SPARE_MAX, reclaimable, outside the render budget (--max-memory). */
 void tc__huge_free(void *p);
+
+/* The same from TC_HUGE_SPARE_MIN: for buffers only tc__huge_take reuses, which glibc would not
+ * (the part buffers of a parallel text, textpar.c: 2 MiB aligned blocks of their own, or a heap
+ * that it trims, 4 KiB faults each time). */
+void tc__huge_keep(void *p);
 
 /* The smallest spare of at least n bytes, taken (uninitialized, like malloc's); NULL if none,
  * and then the largest spare smaller than n is freed: it would only sit beside the block the
  * caller makes instead. Free the result with tc__huge_free (or free). */
 void *tc__huge_take(size_t n);
 
-#define TC_HUGE_SPARE_MIN ((size_t)4 << 20)   /* below: glibc's heaps reuse such blocks already */
+#define TC_HUGE_SPARE_MIN ((size_t)4 << 20)   /* tc__huge_keep's least: below, glibc reuses blocks */
 #define TC_HUGE_SPARE_MAX ((size_t)256 << 20) /* all spares together; a bigger answer's faults
                                                * are small beside its own work */
 

@@ -71,7 +71,7 @@ void tc__text_parallel(tc_strbuf *b, int32_t n, int threads, int32_t min_part, s
     } else {
         b->oom = 1;
     }
-    for (int p = 1; p < parts; p++) tc__huge_free(j.part[p].buf); /* a spare for the next answer's */
+    for (int p = 1; p < parts; p++) tc__huge_keep(j.part[p].buf); /* a spare for the next answer's */
 }
 
 /* Bytes per index of the base64 loop: whole 3-byte groups, so every block but the

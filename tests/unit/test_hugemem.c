@@ -73,9 +73,9 @@ TEST(hugemem_advice_only_from_its_threshold) {
     free(p);
 }
 
-/* The spares (tc__huge_free, tc__huge_take): a big block freed serves the next fresh big
- * block (tc__huge_realloc, with the small block's bytes it grows from), the smallest that holds
- * it; a small block and one too big to keep are freed; one too small for what is asked goes; the
+/* The spares (tc__huge_free, tc__huge_keep, tc__huge_take): a big block freed serves the next
+ * fresh big block (tc__huge_realloc, with the small block's bytes it grows from), the smallest
+ * that holds it; a small block, an answer under TC_HUGE_MIN and one too big to keep are freed; one too small for what is asked goes; the
  * smallest go first past TC_HUGE_SPARE_MAX in all; and a spare is usable memory after its pages
  * were given as lazily free. */
 TEST(hugemem_spares_serve_the_next_big_blocks) {
@@ -90,12 +90,17 @@ TEST(hugemem_spares_serve_the_next_big_blocks) {
     if (!p || !q0) return;
     memset(p, 'p', n);
     size_t pn = malloc_usable_size(p);
+    tc__huge_free(q0); /* under TC_HUGE_MIN: freed, glibc reuses such blocks */
+    CHECK_MSG(tc__huge_spare() == 0, "a %zu-byte answer became a spare", part);
+    q0 = malloc(part);
+    CHECK(q0 != NULL);
+    if (!q0) return;
     tc__huge_free(p);
-    tc__huge_free(q0);
+    tc__huge_keep(q0); /* a part buffer: kept from TC_HUGE_SPARE_MIN */
     size_t both = tc__huge_spare();
     CHECK_MSG(both >= n + part, "spares %zu bytes after freeing %zu and %zu", both, n, part);
     CHECK_MSG(tc__huge_take(part) == q0, "the smallest spare that holds it was not taken"); /* best fit */
-    tc__huge_free(q0);
+    tc__huge_keep(q0);
     char *small = malloc(64);
     CHECK(small != NULL);
     if (!small) return;
@@ -119,10 +124,10 @@ TEST(hugemem_spares_serve_the_next_big_blocks) {
     /* Past TC_HUGE_SPARE_MAX in all: the smallest go. Blocks not touched: only address space. */
     no_spare();
     size_t quarter = TC_HUGE_SPARE_MAX / 4;
-    for (int k = 0; k < 4; k++) tc__huge_free(malloc(quarter - (size_t)k * 4096));
+    for (int k = 0; k < 4; k++) tc__huge_keep(malloc(quarter - (size_t)k * 4096));
     size_t four = tc__huge_spare();
     CHECK(four <= TC_HUGE_SPARE_MAX && four >= 4 * quarter - 6 * 4096);
-    tc__huge_free(malloc(quarter));
+    tc__huge_keep(malloc(quarter));
     CHECK_MSG(tc__huge_spare() <= TC_HUGE_SPARE_MAX, "spares of %zu bytes, over the bound", tc__huge_spare());
     CHECK(tc__huge_spare() > four - quarter); /* the smallest went, the new one stayed */
     no_spare();
