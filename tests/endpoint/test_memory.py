@@ -17,6 +17,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tests", "pylib"))
+import loadkit  # noqa: E402
 import memkit  # noqa: E402
 from hostile import Daemon  # noqa: E402
 from tochertest import check, finish, say  # noqa: E402
@@ -24,18 +25,6 @@ from tochertest import check, finish, say  # noqa: E402
 BUILD = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build"))
 SAN = os.path.basename(os.path.normpath(BUILD)).endswith("san")
 TMP = tempfile.mkdtemp(prefix="tocher-memory.")
-
-
-def grid_request(n):
-    """An n x n grid of squares, two triangles each, values only: 2 n^2 triangles, JSON numbers."""
-    verts = [[i / n, j / n] for j in range(n + 1) for i in range(n + 1)]
-    tris = []
-    for j in range(n):
-        for i in range(n):
-            a = j * (n + 1) + i
-            tris += [[a, a + 1, a + n + 2], [a, a + n + 2, a + n + 1]]
-    vals = [x * x + 0.5 * y for x, y in verts]
-    return json.dumps({"vertices": verts, "triangles": tris, "values": vals}, separators=(",", ":")).encode()
 
 
 def lazy_free_kb(d):
@@ -53,7 +42,7 @@ def lazy_free_kb(d):
 def spare(d):
     """The spare answer (io/hugemem.h): a sent answer of 32 MiB or more is kept as the block the
     next big answer is written into (tests/unit/test_hugemem.c), its pages lazily free (reclaimable)."""
-    body = grid_request(256)  # 131072 triangles: a 45 MiB JSON answer
+    body = json.dumps(loadkit.grid(256), separators=(",", ":")).encode()  # 131072 triangles: a 45 MiB answer
     for k in (1, 2):
         status, _, payload = memkit.post(d.port, "/v1/ordinates", body)
         answer = len(payload) / 1048576.0
