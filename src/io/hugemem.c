@@ -1,5 +1,5 @@
 /* hugemem.c — which buffers of the io layer get the core's huge-page advice (from TC_HUGE_MIN
- * on), and the one spare big block that an answer's pages go back to for the next answer.
+ * on), and the spare big blocks that a sent answer's buffers go back to for the next answer's.
  * The advice is only a hint: its failure (no THP, an old kernel) changes nothing but speed. */
 #define _DEFAULT_SOURCE /* madvise, MADV_FREE */
 #include "io/hugemem.h"

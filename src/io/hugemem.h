@@ -1,6 +1,6 @@
 /* hugemem.h — big buffers (an answer, a request body, a decoded array): backed by transparent
- * huge pages, so that filling one costs a few faults, not thousands; and the one spare block
- * that a sent answer leaves for the next, so that its pages need not be faulted in again. */
+ * huge pages, so that filling one costs a few faults, not thousands; and the spare blocks that a
+ * sent answer leaves for the next, so that their pages need not be faulted in again. */
 #ifndef TC_IO_HUGEMEM_H
 #define TC_IO_HUGEMEM_H
 
