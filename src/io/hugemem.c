@@ -44,6 +44,7 @@ static void *unslot(int k) {
 
 void *tc__huge_take(size_t n) {
     void *s = NULL, *drop = NULL;
+    if (n < TC_HUGE_SPARE_MIN) return NULL; /* a block that small: glibc's, not a spare's pages */
     pthread_mutex_lock(&spare_mu);
     int best = -1, under = -1; /* the smallest that holds n; the largest that does not */
     for (int k = 0; k < SPARES; k++) {

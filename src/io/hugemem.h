@@ -42,8 +42,8 @@ void tc__huge_free(void *p);
  * that it trims, 4 KiB faults each time). */
 void tc__huge_keep(void *p);
 
-/* The smallest spare of at least n bytes, taken (uninitialized, like malloc's); NULL if none,
- * and then the largest spare smaller than n is freed: it would only sit beside the block the
+/* The smallest spare of at least n bytes, taken (uninitialized, like malloc's); NULL if
+ * n < TC_HUGE_SPARE_MIN or none holds n, and then the largest spare smaller than n is freed: it would only sit beside the block the
  * caller makes instead. Free the result with tc__huge_free (or free). */
 void *tc__huge_take(size_t n);
 

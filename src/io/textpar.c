@@ -28,10 +28,11 @@ static void print_part(void *c, int32_t lo, int32_t hi, int part) {
          * buffers, their pages still there), else from the core's allocator, which asks for
          * huge pages (a part of a big answer is some 10 MB; in fresh 4 KiB pages its first
          * writes cost more page faults than printing). */
-        char *p = NULL;
-        if (part && !b->cap) p = bound + 1 >= TC_HUGE_SPARE_MIN ? tc__huge_take(bound + 1) : NULL;
-        if (part && !b->cap && !p) p = tc__malloc(bound + 1, 1);
-        if (p) tc_strbuf_adopt(b, p, 0, bound + 1);
+        if (part && !b->cap) {
+            char *p = tc__huge_take(bound + 1);
+            if (!p) p = tc__malloc(bound + 1, 1);
+            if (p) tc_strbuf_adopt(b, p, 0, bound + 1);
+        }
         tc_strbuf_reserve(b, bound); /* part 0 too: out's caller may have reserved less */
     }
     j->fn(b, j->ctx, lo, hi);

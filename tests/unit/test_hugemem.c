@@ -58,7 +58,7 @@ TEST(hugemem_big_answer_buffer_is_advised) {
 
 /* Empties the process's spares (a daemon's answers leave some): each taken, then freed. */
 static void no_spare(void) {
-    for (void *p; tc__huge_spare() && (p = tc__huge_take(1));) free(p);
+    for (void *p; tc__huge_spare() && (p = tc__huge_take(TC_HUGE_SPARE_MIN));) free(p);
 }
 
 TEST(hugemem_advice_only_from_its_threshold) {
@@ -99,6 +99,7 @@ TEST(hugemem_spares_serve_the_next_big_blocks) {
     tc__huge_keep(q0); /* a part buffer: kept from TC_HUGE_SPARE_MIN */
     size_t both = tc__huge_spare();
     CHECK_MSG(both >= n + part, "spares %zu bytes after freeing %zu and %zu", both, n, part);
+    CHECK_MSG(tc__huge_take(1000) == NULL && tc__huge_spare() == both, "a 1000-byte block was a spare");
     CHECK_MSG(tc__huge_take(part) == q0, "the smallest spare that holds it was not taken"); /* best fit */
     tc__huge_keep(q0);
     char *small = malloc(64);
