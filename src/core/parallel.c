@@ -3,7 +3,7 @@
  * thread among them): a thread slowed by anything (another process on its
  * CPU, a page fault, a costlier stretch of the mesh) delays its part, not the
  * loop by a whole thread's share. The threads are a process-wide pool,
- * started on first use and kept (a build runs some thirty loops: starting
+ * started on first use and kept until tc__parallel_stop (a build runs some thirty loops: starting
  * threads for each would cost more than a small loop); a loop that finds the
  * pool busy with another caller's loop starts its own threads. */
 #include <pthread.h>
@@ -71,12 +71,13 @@ static struct {
     pthread_cond_t go, done;
     int nworkers, nthreads;
     atomic_int pending;
+    int stopping; /* tc__parallel_stop: the workers are to end at the next gen */
     atomic_int spin; /* the workers and the caller fit on the CPUs: spinning takes no CPU a thread needs */
     atomic_ulong gen;
     loop_parts *loop;
     pthread_t tid[TC_PARALLEL_MAX];
 } pool = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, PTHREAD_COND_INITIALIZER,
-          0, 0, 0, 0, 0, NULL, {0}};
+          0, 0, 0, 0, 0, 0, NULL, {0}};
 
 /* A build runs some thirty loops back to back, with little serial work
  * between them: a worker that went to sleep after its part, and a caller
@@ -129,6 +130,10 @@ static void *pool_worker(void *arg) {
         pthread_mutex_lock(&pool.mu);
         while (atomic_load(&pool.gen) == seen) pthread_cond_wait(&pool.go, &pool.mu);
         seen = atomic_load(&pool.gen);
+        if (pool.stopping) {
+            pthread_mutex_unlock(&pool.mu);
+            return NULL;
+        }
         if (k >= pool.nthreads) {
             pthread_mutex_unlock(&pool.mu);
             continue;
@@ -152,7 +157,6 @@ static int pool_run(loop_parts *lp, int nthreads) {
     while (pool.nworkers < nthreads - 1) { /* workers only ever join: each keeps its index */
         int k = pool.nworkers + 1;
         if (pthread_create(&pool.tid[k], NULL, pool_worker, (void *)(intptr_t)k) != 0) return -1;
-        pthread_detach(pool.tid[k]);
         pool.nworkers++;
         atomic_store(&pool.spin, pool.nworkers + 1 <= sysconf(_SC_NPROCESSORS_ONLN));
     }
@@ -169,6 +173,19 @@ static int pool_run(loop_parts *lp, int nthreads) {
     pool.nthreads = 0, pool.loop = NULL;
     pthread_mutex_unlock(&pool.mu);
     return 0;
+}
+
+void tc__parallel_stop(void) {
+    pthread_mutex_lock(&pool.busy); /* no loop is in hand, and none starts */
+    pthread_mutex_lock(&pool.mu);
+    pool.stopping = 1;
+    atomic_fetch_add(&pool.gen, 1);
+    pthread_cond_broadcast(&pool.go);
+    pthread_mutex_unlock(&pool.mu);
+    for (int k = 1; k <= pool.nworkers; k++) pthread_join(pool.tid[k], NULL);
+    pool.nworkers = 0, pool.stopping = 0;
+    atomic_store(&pool.spin, 0);
+    pthread_mutex_unlock(&pool.busy);
 }
 
 /* Without the pool: threads of its own for this loop (any not started leaves

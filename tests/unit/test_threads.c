@@ -550,3 +550,45 @@ TEST(threads_one_part_per_thread) {
     CHECK(tc__parallel_thread_parts(4, 5000, 2000) == 2);
     CHECK(tc__parallel_thread_parts(4, 500, 1000) == 1);
 }
+
+/* The live threads of this process (/proc/self/status), or -1. */
+static int live_threads(void) {
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    int n = -1;
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "Threads: %d", &n) == 1) break;
+    if (f) fclose(f);
+    return n;
+}
+
+/* tc__parallel_stop ends the pool's workers (the tests call it before they exit, so
+ * that LeakSanitizer's exit scan has fewer threads to stop); a later loop starts as
+ * many as it needs again and runs whole; a second stop, or one with no pool, does
+ * nothing. (Other threads of this process, the image libraries' own pools, are
+ * counted in `base` and left alone.) */
+TEST(threads_pool_stops_and_starts_again) {
+    enum { N = 50021 };
+    int32_t *x = calloc(N, sizeof *x);
+    CHECK(x != NULL);
+    if (!x) return;
+    tc__parallel_stop();
+    int base = live_threads();
+    CHECK(base >= 1);
+    tc__parallel_for(8, N, 100, count_part, x); /* 7 workers and this thread */
+    CHECK_MSG(live_threads() == base + 7, "%d threads with the pool, %d without", live_threads(), base);
+    tc__parallel_stop();
+    CHECK_MSG(live_threads() == base, "%d threads after the stop, %d before the pool", live_threads(), base);
+    tc__parallel_stop();
+    CHECK(live_threads() == base);
+    tc__parallel_for(5, N, 100, count_part, x);
+    CHECK(live_threads() == base + 4);
+    tc__parallel_for(3, N, 100, count_part, x); /* the pool keeps its 4 */
+    CHECK(live_threads() == base + 4);
+    int thrice = 1;
+    for (int32_t i = 0; i < N; i++) thrice &= x[i] == 3;
+    CHECK(thrice);
+    tc__parallel_stop();
+    CHECK(live_threads() == base);
+    free(x);
+}
