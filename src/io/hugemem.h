@@ -22,7 +22,8 @@ void tc__huge_advise(void *p, size_t n);
 
 /* realloc(p, n), then the advice for the new block. A fresh big block (n >= TC_HUGE_MIN, p
  * NULL or smaller than that) is a spare (tc__huge_take) when one holds n bytes: p's bytes are
- * copied into it and p freed, as realloc would. */
+ * copied into it and p freed, as realloc would. The answers' buffers come from here: a growing
+ * text (strbuf.c) and a raw image written whole (image/codec.c). */
 void *tc__huge_realloc(void *p, size_t n);
 
 /* free(p); except that a big block (TC_HUGE_MIN .. TC_HUGE_SPARE_MAX usable bytes) is kept as a
