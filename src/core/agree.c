@@ -52,7 +52,7 @@ static int channel_scales(agree *a) {
     for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = 0;
     for (int p = 0; p < tc__parallel_parts(m->threads, 3 * m->nt, 16384); p++)
         for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = fmax(a->scale[ch], sp->scale[p][ch]);
-    free(sp);
+    tc__free(sp);
     return TC_OK;
 }
 
@@ -177,7 +177,7 @@ static int average_corners(agree *a) {
         for (size_t c = 0; c < n; c++) up[c] = root(up, (int32_t)c); /* flat: up[c] is the root */
         average_groups(a, up, lo, hi, sum, cnt, seen);
     }
-    free(up), free(cnt), free(lo), free(hi), free(sum), free(seen);
+    tc__free(up), tc__free(cnt), tc__free(lo), tc__free(hi), tc__free(sum), tc__free(seen);
     return rc;
 }
 

@@ -7,6 +7,10 @@
 
 #include "core/alloc.h"
 
+#include <string.h>
+
+#include "core/spare.h"
+
 /* The huge page size of x86-64 and arm64 (4 KiB base pages); elsewhere the
  * advice covers fewer whole huge pages, or none: only slower, never wrong. */
 #define HUGE_PAGE ((size_t)2 << 20)
@@ -27,7 +31,11 @@ void tc__advise_huge(void *p, size_t bytes) {
 #endif
 }
 
+/* A big array is first the smallest spare that holds it (core/spare.c: the last request's
+ * arrays, given back by tc__free): its pages are there already, advised when first made. */
 void *tc__malloc_huge(size_t bytes) {
+    void *s = tc__spare_take(TC__SPARE_ARRAYS, bytes, 0);
+    if (s) return s;
     size_t rounded = (bytes + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1); /* aligned_alloc: a multiple of the alignment */
     void *p = rounded >= bytes ? aligned_alloc(HUGE_PAGE, rounded) : NULL;
     if (!p) p = malloc(bytes);
@@ -36,7 +44,13 @@ void *tc__malloc_huge(size_t bytes) {
 }
 
 void *tc__calloc_huge(size_t bytes) {
+    void *s = tc__spare_take(TC__SPARE_ARRAYS, bytes, 0);
+    if (s) return memset(s, 0, bytes); /* a spare holds old bytes, or zeros where the kernel took pages back */
     void *p = calloc(1, bytes); /* calloc, not an aligned block cleared here: fresh pages come zeroed */
     if (p) tc__advise_huge(p, bytes); /* (the whole huge pages inside it; calloc has not touched them when fresh) */
     return p;
+}
+
+void tc__free(void *p) {
+    tc__spare_keep(TC__SPARE_ARRAYS, p, TC__HUGE_MIN);
 }

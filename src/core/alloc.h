@@ -19,6 +19,11 @@ void *tc__calloc_huge(size_t bytes);
  * huge pages inside [p, p + bytes) are to be backed by huge pages. Changes no byte. */
 void tc__advise_huge(void *p, size_t bytes);
 
+/* free(p), for every block the core allocates: one of TC__HUGE_MIN bytes or more is kept as a
+ * spare (core/spare.h) for the next big array, so that a daemon's next request does not fault
+ * in and zero its pages again (they are lazily free meanwhile: the kernel may take them back). */
+void tc__free(void *p);
+
 /* n zeroed elements of size sz; NULL when n * sz overflows. */
 static inline void *tc__calloc(size_t n, size_t sz) {
     if (sz && n > (size_t)-1 / sz) return NULL;

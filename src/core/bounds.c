@@ -179,7 +179,7 @@ void tc__channel_range(const struct tc_mesh *m, const double *cz, int threads, d
             if (rp->hi[p][ch] > hi[ch]) hi[ch] = rp->hi[p][ch];
             if (rp->big[p][ch] > big[ch]) big[ch] = rp->big[p][ch];
         }
-    free(rp);
+    tc__free(rp);
 }
 
 /* The per-wedge and per-triangle loops, in parts (each writes its own entries only). */
@@ -221,7 +221,7 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
     b->hi = tc__malloc(tc__ix(m->nt, nc, 0), sizeof *b->hi);
     double *wr = tc__malloc(tc__ix(ws->nw, nc, 0), 2 * sizeof *wr);
     if (!b->lo || !b->hi || !wr) {
-        free(wr);
+        tc__free(wr);
         return TC_ENOMEM;
     }
     bounds_pass bp = {m, ws, cz, planes, wr, tangents, mode, per_quad, b};
@@ -234,12 +234,12 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
         b->span[ch] = hi > lo ? hi - lo : fmax(big, 1e-300);
     }
     tc__parallel_for(ws->threads, m->nt, 2048, bounds_part, &bp);
-    free(wr);
+    tc__free(wr);
     return TC_OK;
 }
 
 void tc__bounds_free(tc__bounds *b) {
-    free(b->lo);
-    free(b->hi);
+    tc__free(b->lo);
+    tc__free(b->hi);
     b->lo = b->hi = NULL;
 }

@@ -80,7 +80,7 @@ static visit *z_order(size_t n, const double *xy) {
     visit *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     uint32_t *count = calloc(65536, sizeof *count);
     if (!a || !b || !count) {
-        free(a), free(b), free(count);
+        tc__free(a), tc__free(b), tc__free(count);
         return NULL;
     }
     double s[2];
@@ -106,7 +106,7 @@ static visit *z_order(size_t n, const double *xy) {
         visit *t = a;
         a = b, b = t;
     }
-    free(b), free(count);
+    tc__free(b), tc__free(count);
     return a;
 }
 
@@ -125,7 +125,7 @@ void tc__eval_points_ref(const tc_recon *r, const tc_locator *L, size_t n, const
         }
         eval_one(r, L, (size_t)(order[i].key & 0xffffffffu), order[i].x, order[i].y, values, grads, tri);
     }
-    free(order);
+    tc__free(order);
 }
 
 /* ==== The batch path ==========================================================
@@ -168,7 +168,7 @@ static int frames_init(frames *fr, const struct tc_mesh *m, size_t npoints) {
 }
 
 static void frames_free(frames *fr) {
-    free(fr->table), free(fr->buf);
+    tc__free(fr->table), tc__free(fr->buf);
 }
 
 /* fp[j] = the frame of own[j] for each owned point j of a chunk. */
@@ -317,7 +317,7 @@ void tc_eval_points_mt(const tc_recon *r, const tc_locator *L, size_t n, const d
     eval_share(&sh[0]);
     for (int k = 1; k <= started; k++) pthread_join(tid[k], NULL);
     for (int k = started + 1; k < nth; k++) eval_share(&sh[k]); /* threads that did not start */
-    free(order);
+    tc__free(order);
 }
 
 void tc_eval_points(const tc_recon *r, const tc_locator *L, size_t n, const double *xy, double *values,

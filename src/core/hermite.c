@@ -267,8 +267,8 @@ static int twists_build(const struct tc_recon *r, twists *tw) {
 
 static void twists_free(twists *tw) {
     tc__wedges_free(&tw->ws);
-    free(tw->H);
-    free(tw->keep);
+    tc__free(tw->H);
+    tc__free(tw->keep);
 }
 
 /* The second derivatives at corner c (a corner id) in channel ch, or NULL (H = 0). */
@@ -412,8 +412,8 @@ static void limit_twists(twists *tw) {
         for (size_t w = 0; w < n; w++)
             for (size_t i = 0; i < 3; i++) tw->H[3 * w + i] *= scale[w];
     }
-    free(fdmax);
-    free(scale);
+    tc__free(fdmax);
+    tc__free(scale);
 }
 
 /* ---- the range limiter ---- */
@@ -488,7 +488,7 @@ static int limit_twists_to_range(const struct tc_recon *r, twists *tw, tc_diags 
                 tc__range_note(&rs.twists, 1 - tw->keep[i], tw->ws.w[i / (size_t)m->nc].v, -1);
         tc__range_warn(m, &rs, r->opt.range, dg);
     }
-    free(largest);
+    tc__free(largest);
     tc__bounds_free(&b);
     return rc;
 }

@@ -200,7 +200,7 @@ int tc__mesh_check(const struct tc_mesh *m, char *why, size_t n) {
         return broken(why, n, "a number of the mesh is not finite");
     int32_t *cnt = tc__calloc((size_t)m->nv, sizeof *cnt);
     int rc = cnt ? check_manifold(m, cnt, why, n) : 0; /* out of memory: that part unchecked */
-    free(cnt);
+    tc__free(cnt);
     return rc ? rc : check_kept_range(m, why, n);
 }
 
@@ -297,11 +297,11 @@ int tc__wedges_check(const struct tc_mesh *m, const tc__wedge_set *ws, char *why
     for (int32_t j = 0; seen && j < ncorner; j++) {
         if (seen[ws->corners[j]]++) {
             int32_t c = ws->corners[j];
-            free(seen);
+            tc__free(seen);
             return broken(why, n, "corner %d is in two wedges' lists", (int)c);
         }
     }
-    free(seen);
+    tc__free(seen);
     for (int32_t i = 0; i < ws->nw; i++) {
         if (check_fan(m, ws, i, why, n) || check_across(ws, i, why, n)) return 1;
         ncoupled += ws->w[i].across[0] >= 0 || ws->w[i].across[1] >= 0;

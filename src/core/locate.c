@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "core/alloc.h"
 #include "core/locate.h"
 #include "core/locgrid.h"
 #include "core/mesh.h"
@@ -372,9 +373,9 @@ static int build_index(struct tc_locator *L, const struct tc_mesh *m) {
         if (fit) L->nodes = fit;
         for (int32_t i = 0; i < m->nt; i++) fill_slot(&L->slots[i], m, perm[i]);
     }
-    free(box);
-    free(cen);
-    free(perm);
+    tc__free(box);
+    tc__free(cen);
+    tc__free(perm);
     return rc;
 }
 
@@ -411,10 +412,10 @@ int tc_locator_new(const tc_mesh *m, tc_locator **out) {
 
 void tc_locator_free(tc_locator *L) {
     if (!L) return;
-    free(L->nodes);
-    free(L->slots);
+    tc__free(L->nodes);
+    tc__free(L->slots);
     tc__locgrid_free(atomic_load(&L->grid));
-    free(L);
+    tc__free(L);
 }
 
 /* ---- querying ---- */

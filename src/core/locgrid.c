@@ -215,7 +215,7 @@ static int fill(tc__locgrid *g, const struct tc__slot *slots, const double *box,
         for (int32_t i = 0; i < nt; i++) FOR_CELLS(g, &R, &slots[i], box + 4 * (size_t)i, items[next[c]++] = i);
         rc = compact(g, &R, slots, start, next, items);
     }
-    free(start), free(next), free(items), free(R.r[0]), free(R.r[1]);
+    tc__free(start), tc__free(next), tc__free(items), tc__free(R.r[0]), tc__free(R.r[1]);
     return rc;
 }
 
@@ -243,7 +243,7 @@ int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out)
         int finite = 1;
         for (int k = 0; k < 3; k++) finite &= isfinite(sl->x[k]) && isfinite(sl->y[k]);
         if (!finite) { /* fmin/fmax would skip a NaN: the tree keeps its own rule for such meshes */
-            free(box), tc__locgrid_free(g);
+            tc__free(box), tc__locgrid_free(g);
             return TC_OK;
         }
         slot_box(sl, b);
@@ -259,7 +259,7 @@ int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out)
         total = count_items(g, box, nt, lim < INT32_MAX ? lim : INT32_MAX);
     }
     if (rc == TC_OK && total >= 0) rc = fill(g, slots, box, nt);
-    free(box);
+    tc__free(box);
     if (rc != TC_OK || total < 0) {
         tc__locgrid_free(g);
         return rc;
@@ -270,7 +270,7 @@ int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out)
 
 void tc__locgrid_free(tc__locgrid *g) {
     if (!g) return;
-    free(g->cell);
-    free(g->items);
-    free(g);
+    tc__free(g->cell);
+    tc__free(g->items);
+    tc__free(g);
 }

@@ -15,27 +15,27 @@
 
 void tc_mesh_free(tc_mesh *m) {
     if (!m) return;
-    free(m->xy);
-    free(m->tri);
-    free(m->given);
-    free(m->kept);
-    free(m->quad);
-    free(m->orient);
-    free(m->cz);
-    free(m->given_grad);
-    free(m->given_grad_has);
-    free(m->mid);
-    free(m->mid_has);
-    free(m->hess);
-    free(m->hess_has);
-    free(m->nbr);
-    free(m->nbr_k);
-    free(m->flag);
-    free(m->vstart);
-    free(m->vcorner);
-    free(m->dstart);
-    free(m->dtri);
-    free(m);
+    tc__free(m->xy);
+    tc__free(m->tri);
+    tc__free(m->given);
+    tc__free(m->kept);
+    tc__free(m->quad);
+    tc__free(m->orient);
+    tc__free(m->cz);
+    tc__free(m->given_grad);
+    tc__free(m->given_grad_has);
+    tc__free(m->mid);
+    tc__free(m->mid_has);
+    tc__free(m->hess);
+    tc__free(m->hess_has);
+    tc__free(m->nbr);
+    tc__free(m->nbr_k);
+    tc__free(m->flag);
+    tc__free(m->vstart);
+    tc__free(m->vcorner);
+    tc__free(m->dstart);
+    tc__free(m->dtri);
+    tc__free(m);
 }
 
 void tc_mesh_desc_init(tc_mesh_desc *d) {
@@ -169,7 +169,7 @@ static int index_dropped(struct tc_mesh *m, const tc_mesh_desc *d) {
     memcpy(fill, m->dstart, (size_t)m->nv * sizeof *fill);
     for (int32_t i = 0; i < m->ngiven; i++)
         for (int k = 0; m->kept[i] < 0 && k < 3; k++) m->dtri[fill[d->tris[3 * (size_t)i + (size_t)k]]++] = i;
-    free(fill);
+    tc__free(fill);
     return TC_OK;
 }
 
@@ -242,7 +242,7 @@ static int copy_elements(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg)
             check_triangle(d, t, drop, &degenerate, dg);
         }
     if (rc == TC_OK) rc = keep_triangles(m, d, bad, nbad, dg);
-    free(bad);
+    tc__free(bad);
     return rc;
 }
 
@@ -371,7 +371,7 @@ int tc_mesh_new(const tc_mesh_desc *desc, tc_mesh **out, tc_diags *diags) {
     struct tc_mesh *m = calloc(1, sizeof *m);
     if (!m) return TC_ENOMEM;
     int rc = build(m, desc, diags);
-    free(m->dstart), free(m->dtri); /* only the checks use them */
+    tc__free(m->dstart), tc__free(m->dtri); /* only the checks use them */
     m->dstart = m->dtri = NULL;
     if (rc != TC_OK) {
         tc_mesh_free(m);

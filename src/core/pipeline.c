@@ -43,9 +43,9 @@ typedef struct {
 
 static void ct_scratch_free(ct_scratch *s) {
     tc__wedges_free(&s->ws);
-    free(s->cz_own);
-    free(s->inputs);
-    free(s->wedge_planes);
+    tc__free(s->cz_own);
+    tc__free(s->inputs);
+    tc__free(s->wedge_planes);
 }
 
 /* Each corner's plane is its wedge's: planes[c] = wedge_planes[of_corner[c]]. */

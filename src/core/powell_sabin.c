@@ -302,6 +302,6 @@ int tc__ps_build(struct tc_recon *r, tc_diags *dg) {
     tc__plane_use use = {ps_dirs, geo, 0};
     if (rc == TC_OK) rc = tc__planes_build(r, &use, dg);
     for (int32_t t = 0; t < m->nt && rc == TC_OK; t++) triangle(r, t, &geo[t]);
-    free(geo);
+    tc__free(geo);
     return rc;
 }

@@ -124,7 +124,7 @@ static int check_repeats(const tc_mesh_desc *d, tc_diags *dg) {
         snprintf(path, sizeof path, "quads[%d]", (int)keys[i].q);
         rc = tc_diags_add(dg, TC_SEV_ERROR, path, "repeats quads[%d] (same four vertices)", (int)keys[first].q);
     }
-    free(keys);
+    tc__free(keys);
     return rc;
 }
 

@@ -464,7 +464,7 @@ static limited shrink_group(group *G, int32_t w, double *planes) {
             move = fmax(move, largest_move(G, y0, y));
         }
     }
-    free(all);
+    tc__free(all);
     tc__range_scale_group(ws, G->m->nc, w, G->ch, lambda, planes);
     return (limited){lambda, move};
 }
@@ -490,7 +490,7 @@ static void planes_part(void *pctx, int32_t vlo, int32_t vhi, int part) {
     double *work = malloc((TC_QP_MAXM * TC_QP_MAXN + TC_QP_MAXEQ * TC_QP_MAXN + TC_QP_MAXM) * sizeof *work);
     pp->nomem[part] = !rows || !work;
     if (pp->nomem[part]) {
-        free(rows), free(work);
+        tc__free(rows), tc__free(work);
         return;
     }
     group G = pp->inputs;
@@ -509,8 +509,8 @@ static void planes_part(void *pctx, int32_t vlo, int32_t vhi, int part) {
             if (lim.move > TC_RANGE_MATERIAL * G.b->span[ch]) tc__range_note(tally, 1 - lim.factor, ws->w[w].v, -1);
         }
     }
-    free(rows);
-    free(work);
+    tc__free(rows);
+    tc__free(work);
 }
 
 void tc__range_tally_merge(tc__range_tally *into, const tc__range_tally *part) {

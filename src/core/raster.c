@@ -793,7 +793,7 @@ static void *worker(void *arg) {
         }
         render_band(jb, b, scratch);
     }
-    free(scratch);
+    tc__free(scratch);
     return NULL;
 }
 
@@ -830,7 +830,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     int32_t rows = ropt->rows ? ropt->rows : vp->height - ropt->row0;
     double *xs = tc__malloc((size_t)vp->width, sizeof *xs), *ys = tc__malloc((size_t)rows, sizeof *ys);
     if (!xs || !ys) {
-        free(xs), free(ys);
+        tc__free(xs), tc__free(ys);
         return TC_ENOMEM;
     }
     double unused;
@@ -842,7 +842,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     job jb = {r,        L,         vp,       ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
               r->m->nc, vp->width / (vp->x1 - vp->x0), (rows + BAND_ROWS - 1) / BAND_ROWS, 0, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
-    free(xs), free(ys);
+    tc__free(xs), tc__free(ys);
     return atomic_load(&jb.no_memory) ? TC_ENOMEM : atomic_load(&jb.timed_out) ? TC_ETIMEOUT : TC_OK;
 }
 

@@ -15,9 +15,9 @@
 
 void tc_recon_free(tc_recon *r) {
     if (!r) return;
-    free(r->coef);
-    free(r->planes);
-    free(r);
+    tc__free(r->coef);
+    tc__free(r->planes);
+    tc__free(r);
 }
 
 /* Coefficients beyond this make evaluation overflow (a few dozen of them are

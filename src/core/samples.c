@@ -267,7 +267,7 @@ static int corner_gradients(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *
         for (int k = 0; k < elem_corners(m); k++)
             if (put_corner_gradient(m, d, i, e, k, dg) != TC_OK) rc = TC_EINVAL;
     }
-    free(seen);
+    tc__free(seen);
     return rc;
 }
 
@@ -406,7 +406,7 @@ int tc__samples_build(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
     if (rc == TC_OK) rc = hessians(m, d, dg);
     if (rc == TC_OK) rc = midpoints(m, d, &s, dg);
     if (rc == TC_OK) rc = tc__values_agree(m, d->value_tolerance, s.cv_src, s.mid_src, dg);
-    free(s.cv_src);
-    free(s.mid_src);
+    tc__free(s.cv_src);
+    tc__free(s.mid_src);
     return rc;
 }

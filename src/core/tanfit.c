@@ -74,7 +74,7 @@ int tc__fit_space_init(const struct tc_mesh *m, tc__fit_space *fs) {
 }
 
 void tc__fit_space_free(tc__fit_space *fs) {
-    free(fs->tmark), free(fs->vmark), free(fs->vsample);
+    tc__free(fs->tmark), tc__free(fs->vmark), tc__free(fs->vsample);
     memset(fs, 0, sizeof *fs);
 }
 

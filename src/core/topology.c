@@ -122,7 +122,7 @@ static int build_vertex_corners(struct tc_mesh *m) {
     }
     rc = TC_OK;
 done:
-    free(cp.slot), free(cp.bucket), free(cp.at);
+    tc__free(cp.slot), tc__free(cp.bucket), tc__free(cp.at);
     return rc;
 }
 
@@ -231,8 +231,8 @@ static int find_sides(struct tc_mesh *m, edge_sides *es) {
 }
 
 static void sides_free(edge_sides *es) {
-    free(es->oth0), free(es->oth1), free(es->noth);
-    for (int p = 0; p < TC_PARALLEL_MAX; p++) free(es->scratch[p]);
+    tc__free(es->oth0), tc__free(es->oth1), tc__free(es->noth);
+    for (int p = 0; p < TC_PARALLEL_MAX; p++) tc__free(es->scratch[p]);
 }
 
 /* Links edge k of t to the first other triangle on it (es). Reports repeats,
@@ -403,7 +403,7 @@ static int check_fans(struct tc_mesh *m, tc_diags *dg) {
         rc = check_fan(m, bad, seen, dg);
         TC_ASSERT(rc != TC_OK);
     }
-    free(seen);
+    tc__free(seen);
     return rc;
 }
 
@@ -550,7 +550,7 @@ static int flag_polylines(struct tc_mesh *m, const tc_polylines *pl, flag_ctx *f
             if (flag_segment(m, fc, i, j - 1 - s, p, v, c, dg) != TC_OK) rc = TC_EINVAL;
         }
     }
-    free(el.edge);
+    tc__free(el.edge);
     return rc;
 }
 
@@ -577,7 +577,7 @@ int tc__flags_apply(struct tc_mesh *m, const tc_mesh_desc *d, tc_diags *dg) {
         fc.kind = TC_CM1;
         if (flag_polylines(m, &d->cm1, &fc, dg) != TC_OK) rc = TC_EINVAL;
     }
-    free(fc.src);
-    free(fc.src_kind);
+    tc__free(fc.src);
+    tc__free(fc.src_kind);
     return rc;
 }

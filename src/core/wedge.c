@@ -11,10 +11,10 @@
 
 void tc__wedges_free(tc__wedge_set *ws) {
     if (!ws) return;
-    free(ws->w);
-    free(ws->corners);
-    free(ws->of_corner);
-    free(ws->vclass);
+    tc__free(ws->w);
+    tc__free(ws->corners);
+    tc__free(ws->of_corner);
+    tc__free(ws->vclass);
     memset(ws, 0, sizeof *ws);
 }
 
@@ -166,7 +166,7 @@ static void wedges_part(void *ctx, int32_t lo, int32_t hi, int part) {
         for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++)
             if (local.of_corner[m->vcorner[i]] < 0) build_wedge(m, &local, v, m->vcorner[i], buf, wp->deg, &fill);
     }
-    free(buf);
+    tc__free(buf);
     wp->nw[part] = local.nw;
 }
 
@@ -224,7 +224,7 @@ int tc__wedges_build_on(const struct tc_mesh *m, int honor_flags, int threads, t
         return TC_ENOMEM;
     }
     tc__parallel_for(threads, m->nv, 4096, renumber_part, &wp); /* the same parts: the split depends on n only */
-    if (wp.packed) free(ws->w), ws->w = wp.packed;
+    if (wp.packed) tc__free(ws->w), ws->w = wp.packed;
     tc__parallel_for(threads, ws->nw, 4096, across_part, &wp);
     for (int p = 0; p < tc__parallel_parts(threads, ws->nw, 4096); p++) ws->ncoupled += wp.ncoupled[p];
     TC_ASSERT_CHECK(tc__wedges_check, m, ws);

@@ -427,13 +427,13 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
     tc__parallel_for(ws->threads, ws->nw, 4096, average_part, &ap);
     double *avg = ws->ncoupled ? tc__malloc((size_t)ws->nw * stride, sizeof *avg) : NULL;
     if (ws->ncoupled == 0 || !avg) { /* no C0 sides: the averages are final */
-        free(area);
+        tc__free(area);
         return ws->ncoupled == 0 ? TC_OK : TC_ENOMEM;
     }
     tc__parallel_copy(ws->threads, avg, out, (size_t)ws->nw * stride * sizeof *avg);
     double *vplane = tc__malloc((size_t)ws->nw * stride, sizeof *vplane);
     if (!vplane) {
-        free(avg), free(area);
+        tc__free(avg), tc__free(area);
         return TC_ENOMEM;
     }
     coupled_pass cp = {m, ws, {ws, avg, vplane, area, nc, by_area, mode == TC_WEDGES_CORRECTED}, vplane, out, {{0}}, {0}};
@@ -456,8 +456,8 @@ int tc__wedge_planes(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
         rc = coupled_planes(&cp, 0, ws->nw, &amps, dg);
     }
     if (rc == TC_OK) warn_amp(&amps, dg);
-    free(avg);
-    free(vplane);
-    free(area);
+    tc__free(avg);
+    tc__free(vplane);
+    tc__free(area);
     return rc;
 }

@@ -59,7 +59,7 @@ TEST(hugemem_big_answer_buffer_is_advised) {
 
 /* Empties the process's spares (a daemon's answers leave some): each taken, then freed. */
 static void no_spare(void) {
-    for (void *p; tc__huge_spare() && (p = tc__huge_take(TC_HUGE_SPARE_MIN));) free(p);
+    tc__spare_drop(TC__SPARE_ANSWERS);
 }
 
 TEST(hugemem_advice_only_from_its_threshold) {
