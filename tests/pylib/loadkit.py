@@ -101,22 +101,32 @@ def render_body(side):
     return json.dumps(dict(shadow(), viewport=vp, format="raw")).encode()
 
 
-def calibrate_render(port, seconds):
-    """A raw render body whose request (rendering, encoding and the transfer, on this daemon)
-    takes about `seconds` (side at most 8192: the daemon must run with LONG_RENDERS, the
-    pixel and sample limits lifted; a 4096^2 render of this mesh takes well under a second).
-    Small renders are dominated by per-triangle costs, so one measurement does not
-    extrapolate: the side is refined until a render takes 0.7 to 1.5 times `seconds`."""
-    side = 600
+def server_seconds(headers):
+    """The daemon's own time for a request (Server-Timing total), or None."""
+    m = re.search(r"total;dur=([0-9.]+)", (headers or {}).get("Server-Timing", "") or "")
+    return float(m.group(1)) / 1e3 if m else None
+
+
+def calibrate_render(port, seconds, worker=False):
+    """A raw render body whose request takes about `seconds` (side at most 8192: the daemon
+    must run with LONG_RENDERS, the pixel and sample limits lifted; a 4096^2 render of this
+    mesh takes well under a second), and the seconds it took. The time is the client's whole
+    request (rendering, encoding and the transfer), or with worker=True the daemon's own
+    (Server-Timing total: what holds a worker; the transfer of a big raw answer comes after,
+    and can be most of the client's time). Small renders are dominated by per-triangle costs,
+    so one measurement does not extrapolate: the side is refined until a render takes 0.7 to
+    1.5 times `seconds`, or reaches 8192."""
+    side, took = 600, seconds
     for _ in range(5):
-        st, _, _, t = post(port, "/v1/render", render_body(side))
-        if st != 200 or 0.7 * seconds <= t <= 1.5 * seconds:
+        st, h, _, t = post(port, "/v1/render", render_body(side))
+        took = (server_seconds(h) or t) if worker else t
+        if st != 200 or 0.7 * seconds <= took <= 1.5 * seconds:
             break
-        new = int(min(8192, max(64, side * math.sqrt(seconds / max(t, 1e-3)))))
+        new = int(min(8192, max(64, side * math.sqrt(seconds / max(took, 1e-3)))))
         if new == side:
             break
         side = new
-    return render_body(side), seconds
+    return render_body(side), took
 
 
 # ---- head-of-line blocking -------------------------------------------------------------
@@ -193,13 +203,36 @@ def hol(build, name, renders, conns, render_s, limit_s, threads=2, conn_timeout=
 
 # ---- the worker queue ------------------------------------------------------------------
 
+def worker_gauges(port):
+    """[(name, value)] of /metrics' tocher_workers_busy and tocher_worker_queue_length, sorted."""
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+    c.request("GET", "/metrics")
+    text = c.getresponse().read().decode()
+    c.close()
+    return sorted(re.findall(r"^(tocher_workers_busy|tocher_worker_queue_length) (\d+)$", text, re.M))
+
+
+def wait_gauges(port, busy, queued, timeout):
+    """Polls /metrics until `busy` workers are busy and `queued` requests wait; the last gauges."""
+    want = [("tocher_worker_queue_length", str(queued)), ("tocher_workers_busy", str(busy))]
+    end = time.time() + timeout
+    while True:
+        got = worker_gauges(port)
+        if got == want or time.time() > end:
+            return got
+        time.sleep(0.005)
+
+
 def queue_full(build, name, render_s):
     """--workers 1 --max-queue 1: one render runs, one waits, a third gets 503 with
-    Retry-After at once; the two accepted ones are answered 200."""
+    Retry-After at once; the two accepted ones are answered 200. Each request is sent once
+    /metrics shows the one before it running or waiting: how long a render holds the worker
+    is the machine's (a fast one renders even the largest side in a fraction of a second)."""
     d = Daemon(build, name, "--workers", "1", "--max-queue", "1", "--render-threads", "1", *LONG_RENDERS)
     if not started(d, name):
         return
-    body, _ = calibrate_render(d.port, render_s)
+    body, busy_s = calibrate_render(d.port, render_s, worker=True)  # how long a render holds the worker
+    say("     %s: a render holds the worker %.2f s" % (name, busy_s))
     out = {}
 
     def go(k):
@@ -210,22 +243,17 @@ def queue_full(build, name, render_s):
 
     a = threading.Thread(target=go, args=("a",))
     a.start()
-    time.sleep(0.1 * render_s)
+    wait_gauges(d.port, 1, 0, 10 * render_s)
     b = threading.Thread(target=go, args=("b",))
     b.start()
-    time.sleep(0.1 * render_s)
+    seen = wait_gauges(d.port, 1, 1, 10 * render_s)
     go("c")
     st, h, body_c, t = out["c"]
     ok = st == 503 and h.get("Retry-After") and b"/problems/" in body_c and t < 0.5 * render_s
     check("%s: a request beyond the queue gets 503 + Retry-After at once (%.3f s)" % (name, t), bool(ok),
           "%r %r %r" % (st, dict(h) if h else {}, body_c[:200]))
-    c = http.client.HTTPConnection("127.0.0.1", d.port, timeout=30)
-    c.request("GET", "/metrics")
-    text = c.getresponse().read().decode()
-    c.close()
-    gauges = re.findall(r"^(tocher_workers_busy|tocher_worker_queue_length) (\d+)$", text, re.M)
     check("%s: /metrics meanwhile: one worker busy, one request waiting" % name,
-          sorted(gauges) == [("tocher_worker_queue_length", "1"), ("tocher_workers_busy", "1")], repr(gauges))
+          seen == [("tocher_worker_queue_length", "1"), ("tocher_workers_busy", "1")], repr(seen))
     a.join()
     b.join()
     check("%s: the running and the queued render both answer 200" % name,
