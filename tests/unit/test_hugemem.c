@@ -76,9 +76,8 @@ TEST(hugemem_advice_only_from_its_threshold) {
 
 /* The spares (tc__huge_free, tc__huge_keep, tc__huge_take): a big block freed serves the next
  * fresh big block (tc__huge_realloc, with the small block's bytes it grows from), the smallest
- * that holds it; a small block, an answer under TC_HUGE_MIN and one too big to keep are freed; one too small for what is asked goes; the
- * smallest go first past TC_HUGE_SPARE_MAX in all; and a spare is usable memory after its pages
- * were given as lazily free. */
+ * that holds it; a small block and an answer under TC_HUGE_MIN are freed; one too small for what
+ * is asked goes; and a spare is usable memory after its pages were given as lazily free. */
 TEST(hugemem_spares_serve_the_next_big_blocks) {
     no_spare();
     CHECK(tc__huge_spare() == 0);
@@ -118,20 +117,7 @@ TEST(hugemem_spares_serve_the_next_big_blocks) {
     CHECK(tc__huge_spare() == both);
     char *r = tc__huge_take(n + (8 << 20)); /* more than any spare holds: none, and the largest goes */
     CHECK(r == NULL && tc__huge_spare() == both - pn);
-    char *big = malloc(TC_HUGE_SPARE_MAX + 1); /* not touched: only address space */
-    CHECK(big != NULL);
-    size_t before = tc__huge_spare();
-    tc__huge_free(big);
-    CHECK_MSG(tc__huge_spare() == before, "a block over TC_HUGE_SPARE_MAX became a spare");
-    /* Past TC_HUGE_SPARE_MAX in all: the smallest go. Blocks not touched: only address space. */
-    no_spare();
-    size_t quarter = TC_HUGE_SPARE_MAX / 4;
-    for (int k = 0; k < 4; k++) tc__huge_keep(malloc(quarter - (size_t)k * 4096));
-    size_t four = tc__huge_spare();
-    CHECK(four <= TC_HUGE_SPARE_MAX && four >= 4 * quarter - 6 * 4096);
-    tc__huge_keep(malloc(quarter));
-    CHECK_MSG(tc__huge_spare() <= TC_HUGE_SPARE_MAX, "spares of %zu bytes, over the bound", tc__huge_spare());
-    CHECK(tc__huge_spare() > four - quarter); /* the smallest went, the new one stayed */
+    /* The bounds of a pool (its bytes, its blocks, the smallest going first): test_spare.c. */
     no_spare();
 }
 
