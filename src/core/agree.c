@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "core/mesh_build.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 
 /* A tolerance below this is rounding of the front-end's own arithmetic (and
@@ -38,8 +39,8 @@ static void scales_part(void *ctx, int32_t lo, int32_t hi, int part) {
     for (int ch = 0; ch < m->nc; ch++) scale[ch] = 0;
     for (size_t c = (size_t)lo; c < (size_t)hi; c++)
         for (int ch = 0; ch < m->nc; ch++) {
-            scale[ch] = fmax(scale[ch], fabs(m->cz[c * (size_t)m->nc + (size_t)ch]));
-            if (m->mid_has && m->mid_has[c]) scale[ch] = fmax(scale[ch], fabs(m->mid[c * (size_t)m->nc + (size_t)ch]));
+            scale[ch] = tc__fmax(scale[ch], fabs(m->cz[c * (size_t)m->nc + (size_t)ch]));
+            if (m->mid_has && m->mid_has[c]) scale[ch] = tc__fmax(scale[ch], fabs(m->mid[c * (size_t)m->nc + (size_t)ch]));
         }
 }
 
@@ -51,7 +52,7 @@ static int channel_scales(agree *a) {
     tc__parallel_for(m->threads, 3 * m->nt, 16384, scales_part, sp);
     for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = 0;
     for (int p = 0; p < tc__parallel_parts(m->threads, 3 * m->nt, 16384); p++)
-        for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = fmax(a->scale[ch], sp->scale[p][ch]);
+        for (int ch = 0; ch < m->nc; ch++) a->scale[ch] = tc__fmax(a->scale[ch], sp->scale[p][ch]);
     tc__free(sp);
     return TC_OK;
 }
@@ -141,7 +142,7 @@ static void average_groups(agree *a, const int32_t *up, double *lo, double *hi, 
         for (size_t ch = 0; ch < nc; ch++) {
             double z = m->cz[c * nc + ch];
             if (r == c) lo[r * nc + ch] = hi[r * nc + ch] = z, sum[r * nc + ch] = 0;
-            lo[r * nc + ch] = fmin(lo[r * nc + ch], z), hi[r * nc + ch] = fmax(hi[r * nc + ch], z);
+            lo[r * nc + ch] = tc__fmin(lo[r * nc + ch], z), hi[r * nc + ch] = tc__fmax(hi[r * nc + ch], z);
         }
         n[r]++;
     }
@@ -193,7 +194,7 @@ static void midpoints_agree(agree *a) {
         size_t c2 = 3 * (size_t)m->nbr[c] + (size_t)m->nbr_k[c];
         if (!joins(m, c) || !m->mid_has[c] || !m->mid_has[c2]) continue;
         double *za = m->mid + c * (size_t)nc, *zb = m->mid + c2 * (size_t)nc, worst = 0;
-        for (int ch = 0; ch < nc; ch++) worst = fmax(worst, relative(a, ch, fabs(za[ch] - zb[ch])));
+        for (int ch = 0; ch < nc; ch++) worst = tc__fmax(worst, relative(a, ch, fabs(za[ch] - zb[ch])));
         if (worst == 0 || worst > a->tol) continue;
         for (int ch = 0; ch < nc; ch++) za[ch] = zb[ch] = za[ch] + (zb[ch] - za[ch]) / 2;
         a->nedge++;
@@ -221,7 +222,7 @@ static void warn_averaged(const agree *a, tc_diags *dg) {
 
 int tc__values_agree(struct tc_mesh *m, double tolerance, const int32_t *cv_src, const int32_t *mid_src,
                      tc_diags *dg) {
-    agree a = {m, cv_src, mid_src, fmax(tolerance, TOL_FLOOR), {0}, 0, 0, 0, 0, -1, -1};
+    agree a = {m, cv_src, mid_src, tc__fmax(tolerance, TOL_FLOOR), {0}, 0, 0, 0, 0, -1, -1};
     int rc = channel_scales(&a);
     if (rc != TC_OK) return rc;
     if (m->ncorner_overrides) { /* else every corner holds its vertex's value */

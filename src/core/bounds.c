@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "core/geom.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 #include "core/range.h"
 
@@ -14,7 +15,7 @@ static void corner_range(const struct tc_mesh *m, const double *cz, int32_t t, i
     *lo = INFINITY, *hi = -INFINITY;
     for (int k = 0; k < 3; k++) {
         double z = cz[tc__ix(3 * (long)t + k, nc, ch)];
-        *lo = fmin(*lo, z), *hi = fmax(*hi, z);
+        *lo = tc__fmin(*lo, z), *hi = tc__fmax(*hi, z);
     }
 }
 
@@ -30,7 +31,7 @@ static void wedge_ranges(const struct tc_mesh *m, const tc__wedge_set *ws, const
             for (int32_t i = 0; i < ws->w[w].count; i++) {
                 double lo, hi;
                 corner_range(m, cz, ws->corners[ws->w[w].first + i] / 3, ch, &lo, &hi);
-                r[0] = fmin(r[0], lo), r[1] = fmax(r[1], hi);
+                r[0] = tc__fmin(r[0], lo), r[1] = tc__fmax(r[1], hi);
             }
         }
 }
@@ -44,7 +45,7 @@ typedef struct {
 } extent;
 
 /* minmod: the smaller magnitude if a and b agree in sign, else 0. */
-static double minmod(double a, double b) { return a > 0 && b > 0 ? fmin(a, b) : a < 0 && b < 0 ? fmax(a, b) : 0; }
+static double minmod(double a, double b) { return a > 0 && b > 0 ? tc__fmin(a, b) : a < 0 && b < 0 ? tc__fmax(a, b) : 0; }
 
 /* How much a corner's plane is believed about the shape of the data. Given
  * planes and planes from the paper's midpoint samples are data. A plane
@@ -82,8 +83,8 @@ static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double
         size_t ci = tc__ix(t, 3, i), cj = tc__ix(t, 3, (i + 1) % 3);
         if (m->mid_has && m->mid_has[ci]) {
             double zi = cz[tc__ix((long)ci, nc, ch)], zj = cz[tc__ix((long)cj, nc, ch)], mid = m->mid[tc__ix((long)ci, nc, ch)];
-            ext->data[0] = fmax(ext->data[0], 4.0 / 3 * (mid - fmax(zi, zj)));
-            ext->data[1] = fmax(ext->data[1], 4.0 / 3 * (fmin(zi, zj) - mid));
+            ext->data[0] = tc__fmax(ext->data[0], 4.0 / 3 * (mid - tc__fmax(zi, zj)));
+            ext->data[1] = tc__fmax(ext->data[1], 4.0 / 3 * (tc__fmin(zi, zj) - mid));
         }
         int ki = plane_kind(m, ws, mode, ci, shaped), kj = plane_kind(m, ws, mode, cj, shaped);
         if (!planes || ki == PLANE_NONE || kj == PLANE_NONE) continue;
@@ -91,7 +92,7 @@ static void bends(const struct tc_mesh *m, const tc__wedge_set *ws, const double
         tc__sub(e, tc__vxy(m, m->tri[cj]), tc__vxy(m, m->tri[ci]));
         double di = tc__dot(planes + 2 * tc__ix((long)ci, nc, ch), e), dj = tc__dot(planes + 2 * tc__ix((long)cj, nc, ch), e);
         double *to = ki == PLANE_DATA && kj == PLANE_DATA ? ext->data : ext->est;
-        to[0] = fmax(to[0], minmod(di, -dj) / 3), to[1] = fmax(to[1], minmod(-di, dj) / 3);
+        to[0] = tc__fmax(to[0], minmod(di, -dj) / 3), to[1] = tc__fmax(to[1], minmod(-di, dj) / 3);
     }
 }
 
@@ -104,10 +105,10 @@ static void extent_of(const struct tc_mesh *m, const tc__wedge_set *ws, const do
         int32_t u = half ? t ^ 1 : t;
         double a, b;
         corner_range(m, cz, u, ch, &a, &b);
-        ext->lo = fmin(ext->lo, a), ext->hi = fmax(ext->hi, b);
+        ext->lo = tc__fmin(ext->lo, a), ext->hi = tc__fmax(ext->hi, b);
         for (int k = 0; k < 3; k++) {
             const double *r = wr + 2 * tc__ix(ws->of_corner[3 * u + k], nc, ch);
-            ext->around[0] = fmin(ext->around[0], r[0]), ext->around[1] = fmax(ext->around[1], r[1]);
+            ext->around[0] = tc__fmin(ext->around[0], r[0]), ext->around[1] = tc__fmax(ext->around[1], r[1]);
         }
         bends(m, ws, cz, planes, mode, u, ch, ext);
     }
@@ -123,10 +124,10 @@ static void bound_of(const extent *ext, tc_range mode, double *lo, double *hi) {
         *lo = floor, *hi = INFINITY;
         return;
     }
-    double up = fmax(ext->data[0], fmin(ext->est[0], fmax(0, ext->around[1] - ext->hi)));
-    double down = fmax(ext->data[1], fmin(ext->est[1], fmax(0, ext->lo - ext->around[0])));
-    *lo = fmax(ext->lo - fmax(margin, down), floor);
-    *hi = ext->hi + fmax(margin, up);
+    double up = tc__fmax(ext->data[0], tc__fmin(ext->est[0], tc__fmax(0, ext->around[1] - ext->hi)));
+    double down = tc__fmax(ext->data[1], tc__fmin(ext->est[1], tc__fmax(0, ext->lo - ext->around[0])));
+    *lo = tc__fmax(ext->lo - tc__fmax(margin, down), floor);
+    *hi = ext->hi + tc__fmax(margin, up);
 }
 
 /* The range of each channel's corner values, per part: min, max and largest
@@ -231,7 +232,7 @@ int tc__bounds_build(const struct tc_mesh *m, const tc__wedge_set *ws, const dou
     for (int ch = 0; ch < nc; ch++) {
         double big = cbig[ch], lo = clo[ch], hi = chi[ch];
         b->tol[ch] = TC_RANGE_SLACK * big;
-        b->span[ch] = hi > lo ? hi - lo : fmax(big, 1e-300);
+        b->span[ch] = hi > lo ? hi - lo : tc__fmax(big, 1e-300);
     }
     tc__parallel_for(ws->threads, m->nt, 2048, bounds_part, &bp);
     tc__free(wr);

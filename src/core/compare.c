@@ -2,12 +2,13 @@
  * Bastos & Oliveira's mean relative error (|ref - rec| / full scale, averaged). */
 #include <math.h>
 
+#include "core/minmax.h"
 #include "core/recon.h"
 
 /* Largest |ref| over the points: the default full scale. */
 static double max_abs_ref(size_t n, int nc, const double *ref) {
     double m = 0;
-    for (size_t i = 0; i < n * (size_t)nc; i++) m = fmax(m, fabs(ref[i]));
+    for (size_t i = 0; i < n * (size_t)nc; i++) m = tc__fmax(m, fabs(ref[i]));
     return m;
 }
 
@@ -26,7 +27,7 @@ int tc_compare(const tc_recon *r, const tc_locator *L, size_t n, const double *x
         }
         for (int ch = 0; ch < nc; ch++) {
             double e = fabs(ref[i * (size_t)nc + (size_t)ch] - v[ch]);
-            out->max_abs = fmax(out->max_abs, e);
+            out->max_abs = tc__fmax(out->max_abs, e);
             sum2 += e * e;
             sum_abs += e;
         }

@@ -10,6 +10,7 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 #include "core/plane.h"
 
@@ -127,7 +128,7 @@ static int cab_salesin(const tc__ct_input *ci, int32_t t, int k, int ch, const g
             return -1;
         }
         tc__normal_to_grad(P, gp);
-        double larger = fmax(tc__hypot(gn[0], gn[1]), fabs(rise) / tc__hypot(e[0], e[1]));
+        double larger = tc__fmax(tc__hypot(gn[0], gn[1]), fabs(rise) / tc__hypot(e[0], e[1]));
         *amp = tc__hypot(gp[0], gp[1]) / larger;
         if (!(larger > 0)) *amp = tc__hypot(gp[0], gp[1]) > 0 ? INFINITY : 1;
         if (!(*amp <= PROJECT_LIMIT)) return -1;

@@ -28,6 +28,7 @@
 #include "core/alloc.h"
 #include "core/ct.h"
 #include "core/geom.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 #include "core/range.h"
 
@@ -115,7 +116,7 @@ static double dart_lambda(const tie *e, double za, double zb, double aab, double
     if (!(r0 >= flo - tol && r0 <= fhi + tol)) return -1;
     double target = r1 > fhi ? fhi : flo; /* r(lambda) = r0 + lambda (r1 - r0) reaches it */
     double lambda = (target - r0) / (r1 - r0);
-    return fmin(fmax(lambda, 0), 1);
+    return tc__fmin(tc__fmax(lambda, 0), 1);
 }
 
 /* Tied edge (t, k) in channel ch: the lambda that makes it feasible, as dart_lambda. */
@@ -206,7 +207,7 @@ static int clamp_free(const limiter *lim, int32_t t, int k, double *coef) {
         size_t i = tc__ix(t, nc, ch);
         double *cab = coef + i * TC_CT_ORDINATES + tc__ct_cij[k];
         if (tc__outside(*cab, lim->b->lo[i], lim->b->hi[i], lim->b->tol[ch]) == 0) continue;
-        double v = fmin(fmax(*cab, lim->b->lo[i]), lim->b->hi[i]);
+        double v = tc__fmin(tc__fmax(*cab, lim->b->lo[i]), lim->b->hi[i]);
         note(lim, &lim->stats->edges, ch, fabs(v - *cab), t, k);
         *cab = v, moved = 1;
     }
@@ -236,16 +237,16 @@ static int clamp_tied_channel(const limiter *lim, const tie *e, int ch, double *
     /* q = g - kappa p falls as p rises: some p in [plo, phi] puts q in [qlo, qhi] iff */
     int high = g - kappa * phi > qhi + slack, low = g - kappa * plo < qlo - slack;
     if (!high && !low) { /* C1 inside both bounds: move p no further than needed */
-        double jlo = fmax(plo, (g - qhi) / kappa), jhi = fmin(phi, (g - qlo) / kappa);
-        if (jlo > jhi) jlo = jhi = fmin(fmax(0.5 * (jlo + jhi), plo), phi); /* rounding */
-        pn = fmin(fmax(p0, jlo), jhi);
+        double jlo = tc__fmax(plo, (g - qhi) / kappa), jhi = tc__fmin(phi, (g - qlo) / kappa);
+        if (jlo > jhi) jlo = jhi = tc__fmin(tc__fmax(0.5 * (jlo + jhi), plo), phi); /* rounding */
+        pn = tc__fmin(tc__fmax(p0, jlo), jhi);
         qn = g - kappa * pn; /* exactly C1; outside q's bound by rounding (slack) at most */
     } else { /* no C1 choice inside: the nearest pair, C1 given up here */
         pn = high ? phi : plo;
         qn = high ? qhi : qlo;
         note(lim, &lim->stats->kinks, ch, fabs(qn - (g - kappa * pn)), e->t, e->k);
     }
-    if (!inside) note(lim, &lim->stats->edges, ch, fmax(fabs(pn - p0), fabs(qn - q0)), e->t, e->k);
+    if (!inside) note(lim, &lim->stats->edges, ch, tc__fmax(fabs(pn - p0), fabs(qn - q0)), e->t, e->k);
     *p = pn, *q = qn;
     return 1;
 }

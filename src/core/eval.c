@@ -13,6 +13,7 @@
 #include "core/eval.h"
 #include "core/geom.h"
 #include "core/locate.h"
+#include "core/minmax.h"
 #include "core/recon.h"
 
 void tc_eval_triangle(const tc_recon *r, int32_t t, double x, double y, double *value, double *grad) {
@@ -76,7 +77,7 @@ static visit *z_order(size_t n, const double *xy) {
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++)
         for (size_t k = 0; k < 2; k++)
-            if (isfinite(xy[2 * i + k])) lo[k] = fmin(lo[k], xy[2 * i + k]), hi[k] = fmax(hi[k], xy[2 * i + k]);
+            if (isfinite(xy[2 * i + k])) lo[k] = tc__fmin(lo[k], xy[2 * i + k]), hi[k] = tc__fmax(hi[k], xy[2 * i + k]);
     visit *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     uint32_t *count = calloc(65536, sizeof *count);
     if (!a || !b || !count) {

@@ -8,8 +8,10 @@
 
 #include <math.h>
 
+#include "core/minmax.h"
+
 static inline double tc__hypot(double x, double y) {
-    double m = fmax(fabs(x), fabs(y));
+    double m = tc__fmax(fabs(x), fabs(y));
     return m > 1e-150 && m < 1e150 ? sqrt(x * x + y * y) : hypot(x, y);
 }
 

@@ -9,6 +9,7 @@
 
 #include "core/fhypot.h"
 #include "core/mesh.h"
+#include "core/minmax.h"
 
 /* Relative tolerance below which two edge directions count as collinear
  * (|sin| of the angle between them). Far below any meaningful mesh angle, far
@@ -152,7 +153,7 @@ static inline double tc__face_aspect(const struct tc_mesh *m, int32_t t) {
     double e[3][2], longest = 0;
     for (int k = 0; k < 3; k++) {
         tc__sub(e[k], tc__vxy(m, v[(k + 1) % 3]), tc__vxy(m, v[k]));
-        longest = fmax(longest, tc__hypot(e[k][0], e[k][1]));
+        longest = tc__fmax(longest, tc__hypot(e[k][0], e[k][1]));
     }
     double twice_area = fabs(tc__cross(e[0], e[2]));
     return twice_area > 0 ? longest * longest / twice_area : INFINITY;

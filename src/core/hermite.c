@@ -8,6 +8,7 @@
 #include "core/fhypot.h"
 #include "core/hermite.h"
 #include "core/lsq.h"
+#include "core/minmax.h"
 #include "core/pipeline.h"
 #include "core/recon.h"
 #include "core/wedge.h"
@@ -61,7 +62,7 @@ static int roots(double a2, double a1, double a0, double r[2]) {
 
 /* How far (s, t) lies outside [0, 1]^2 (0 inside). */
 static double outside(double s, double t) {
-    return fmax(0, fmax(-s, s - 1)) + fmax(0, fmax(-t, t - 1));
+    return tc__fmax(0, tc__fmax(-s, s - 1)) + tc__fmax(0, tc__fmax(-t, t - 1));
 }
 
 typedef struct {
@@ -118,10 +119,10 @@ void tc__bilinear_inverse(const double P[4][2], const double d[2], double par[2]
         }
     /* Scaled so the quad has size ~1: tolerances are relative and no product overflows. */
     double L = 0;
-    for (int k = 1; k < 4; k++) L = fmax(L, fmax(fabs(P[k][0]), fabs(P[k][1])));
+    for (int k = 1; k < 4; k++) L = tc__fmax(L, tc__fmax(fabs(P[k][0]), fabs(P[k][1])));
     double B[2] = {P[1][0] / L, P[1][1] / L}, D[2] = {P[3][0] / L, P[3][1] / L};
     double E[2] = {(P[2][0] - P[1][0] - P[3][0]) / L, (P[2][1] - P[1][1] - P[3][1]) / L};
-    double x[2] = {d[0] / L, d[1] / L}, tol = INVERSE_EXACT * fmax(1, tc__hypot(x[0], x[1]));
+    double x[2] = {d[0] / L, d[1] / L}, tol = INVERSE_EXACT * tc__fmax(1, tc__hypot(x[0], x[1]));
     candidate best = {0, 0, INFINITY, INFINITY, 0};
     candidates_from(B, D, E, x, 0, tol, &best);
     candidates_from(B, D, E, x, 1, tol, &best);
@@ -190,7 +191,7 @@ void tc__hermite_eval(const double *o, const tc__eval_point *at, double *value, 
     jacobian(P, par[0], par[1], xs, xt);
     double det = tc__cross(xs, xt);
     if (!(fabs(det) > JACOBIAN_MIN_SIN * tc__hypot(xs[0], xs[1]) * tc__hypot(xt[0], xt[1]))) {
-        jacobian(P, fmin(1, fmax(0, par[0])), fmin(1, fmax(0, par[1])), xs, xt);
+        jacobian(P, tc__fmin(1, tc__fmax(0, par[0])), tc__fmin(1, tc__fmax(0, par[1])), xs, xt);
         det = tc__cross(xs, xt);
     }
     grad[0] = (fs * xt[1] - ft * xs[1]) / det;
@@ -393,11 +394,11 @@ static void limit_pass(const twists *tw, int pass, double *fdmax, double *scale)
                 size_t w = tc__ix(tw->ws.of_corner[G.corner[k]], m->nc, ch);
                 double fd = fd_twist(tw, &G, k, ch);
                 if (pass == 0) {
-                    fdmax[w] = fmax(fdmax[w], fd);
+                    fdmax[w] = tc__fmax(fdmax[w], fd);
                     continue;
                 }
-                double t = fabs(form(tw->H + 3 * w, G.xs[k], G.xt[k])), bound = fmax(2 * fd, fdmax[w]);
-                if (t > bound) scale[w] = fmin(scale[w], bound / t);
+                double t = fabs(form(tw->H + 3 * w, G.xs[k], G.xt[k])), bound = tc__fmax(2 * fd, fdmax[w]);
+                if (t > bound) scale[w] = tc__fmin(scale[w], bound / t);
             }
     }
 }
@@ -462,10 +463,10 @@ static void keep_pass(twists *tw, const tc__bounds *b, double *keep, double *lar
                 double base = f + (si * tc__dot(g, G.xs[k]) + sj * tc__dot(g, G.xt[k])) / 3 + si * sj * tc__dot(g, G.E) / 9;
                 double part = si * sj * form(H, G.xs[k], G.xt[k]) / 9;
                 size_t i = tc__ix(2 * q, nc, ch), w = tc__ix(tw->ws.of_corner[c], nc, ch);
-                largest[w] = fmax(largest[w], fabs(part));
+                largest[w] = tc__fmax(largest[w], fabs(part));
                 double room = part > 0 ? b->hi[i] - base : b->lo[i] - base; /* same sign as part, or 0 */
                 if (tc__outside(base + part, b->lo[i], b->hi[i], b->tol[ch]) > 0)
-                    keep[w] = fmin(keep[w], fmax(0, room / part));
+                    keep[w] = tc__fmin(keep[w], tc__fmax(0, room / part));
             }
     }
 }

@@ -10,6 +10,7 @@
 #include "core/locate.h"
 #include "core/locgrid.h"
 #include "core/mesh.h"
+#include "core/minmax.h"
 
 /* ==== The ownership rule =====================================================
  *
@@ -261,8 +262,8 @@ static void select_kth(struct builder *b, int axis, int32_t lo, int32_t hi, int3
 /* Grows the box (lo, hi) to cover the box (alo, ahi). */
 static void box_union(double lo[2], double hi[2], const double alo[2], const double ahi[2]) {
     for (int a = 0; a < 2; a++) {
-        lo[a] = fmin(lo[a], alo[a]);
-        hi[a] = fmax(hi[a], ahi[a]);
+        lo[a] = tc__fmin(lo[a], alo[a]);
+        hi[a] = tc__fmax(hi[a], ahi[a]);
     }
 }
 
@@ -272,8 +273,8 @@ static int split_axis(const struct builder *b, int32_t lo, int32_t hi) {
     for (int32_t i = lo; i < hi; i++) {
         const double *c = b->cen + 2 * (size_t)b->perm[i];
         for (int a = 0; a < 2; a++) {
-            mn[a] = fmin(mn[a], c[a]);
-            mx[a] = fmax(mx[a], c[a]);
+            mn[a] = tc__fmin(mn[a], c[a]);
+            mx[a] = tc__fmax(mx[a], c[a]);
         }
     }
     return mx[1] - mn[1] > mx[0] - mn[0];

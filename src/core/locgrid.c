@@ -6,6 +6,7 @@
 
 #include "core/alloc.h"
 #include "core/locgrid.h"
+#include "core/minmax.h"
 #include "tocher.h"
 
 /* Cells per triangle tried first, then a quarter as many while the lists grow
@@ -29,10 +30,10 @@
 #define ORIGIN_SHIFT 0.3819660112501051
 
 static void slot_box(const struct tc__slot *s, double b[4]) {
-    b[0] = fmin(fmin(s->x[0], s->x[1]), s->x[2]);
-    b[1] = fmin(fmin(s->y[0], s->y[1]), s->y[2]);
-    b[2] = fmax(fmax(s->x[0], s->x[1]), s->x[2]);
-    b[3] = fmax(fmax(s->y[0], s->y[1]), s->y[2]);
+    b[0] = tc__fmin(tc__fmin(s->x[0], s->x[1]), s->x[2]);
+    b[1] = tc__fmin(tc__fmin(s->y[0], s->y[1]), s->y[2]);
+    b[2] = tc__fmax(tc__fmax(s->x[0], s->x[1]), s->x[2]);
+    b[3] = tc__fmax(tc__fmax(s->y[0], s->y[1]), s->y[2]);
 }
 
 /* `want` cells across the box along one axis, one more for the shifted origin;
@@ -58,7 +59,7 @@ static void size_grid(tc__locgrid *g, double cells) {
     double w = g->hi[0] - g->lo[0], h = g->hi[1] - g->lo[1];
     double nx = w > 0 && h > 0 ? sqrt(cells * w / h) : w > 0 ? cells : 1;
     axis_cells(g, 0, nx);
-    axis_cells(g, 1, cells / fmax(1, floor(nx + 0.5)));
+    axis_cells(g, 1, cells / tc__fmax(1, floor(nx + 0.5)));
 }
 
 /* Number of (slot, cell) pairs, or -1 past `limit`. */
@@ -83,10 +84,10 @@ static void cell_range(const tc__locgrid *g, int axis, int32_t c, double *a, dou
         *a = lo, *b = hi;
     } else {
         double cw = 1 / g->scale[axis];
-        *a = c == 0 ? fmin(lo, g->org[axis]) : g->org[axis] + c * cw;
-        *b = c == g->n[axis] - 1 ? fmax(hi, g->org[axis] + (c + 1) * cw) : g->org[axis] + (c + 1) * cw;
+        *a = c == 0 ? tc__fmin(lo, g->org[axis]) : g->org[axis] + c * cw;
+        *b = c == g->n[axis] - 1 ? tc__fmax(hi, g->org[axis] + (c + 1) * cw) : g->org[axis] + (c + 1) * cw;
     }
-    double m = 1e-3 * (*b - *a) + 1e-12 * fmax(fabs(lo), fabs(hi));
+    double m = 1e-3 * (*b - *a) + 1e-12 * tc__fmax(fabs(lo), fabs(hi));
     *a -= m, *b += m;
 }
 
@@ -221,7 +222,7 @@ static int fill(tc__locgrid *g, const struct tc__slot *slots, const double *box,
 
 /* Cells per triangle of the first grid tried. */
 static double cells_per_triangle(int32_t nt) {
-    return fmax(CELLS_LARGE, fmin(CELLS_SMALL, CELL_BUDGET / nt));
+    return tc__fmax(CELLS_LARGE, tc__fmin(CELLS_SMALL, CELL_BUDGET / nt));
 }
 
 long long tc__locgrid_cost(int32_t nt) {
@@ -247,8 +248,8 @@ int tc__locgrid_new(const struct tc__slot *slots, int32_t nt, tc__locgrid **out)
             return TC_OK;
         }
         slot_box(sl, b);
-        g->lo[0] = fmin(g->lo[0], b[0]), g->lo[1] = fmin(g->lo[1], b[1]);
-        g->hi[0] = fmax(g->hi[0], b[2]), g->hi[1] = fmax(g->hi[1], b[3]);
+        g->lo[0] = tc__fmin(g->lo[0], b[0]), g->lo[1] = tc__fmin(g->lo[1], b[1]);
+        g->hi[0] = tc__fmax(g->hi[0], b[2]), g->hi[1] = tc__fmax(g->hi[1], b[3]);
     }
     int64_t total = -1, limit = (int64_t)ITEMS_PER_TRIANGLE * nt;
     double per = cells_per_triangle(nt);

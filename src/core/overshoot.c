@@ -5,6 +5,8 @@
 
 #include "tocher.h"
 
+#include "core/minmax.h"
+
 /* Lives in the core, next to tc_compare, because it needs nothing but the
  * mesh and a tile: no exact function, no scene. Tests, the report, the CLI and
  * the daemon all link the core, and a range limiter in the core can be
@@ -16,14 +18,14 @@ static void data_range(const tc_mesh *m, int ch, double *lo, double *hi) {
     for (int32_t t = 0, nt = tc_mesh_triangle_count(m); t < nt; t++)
         for (int k = 0; k < 3; k++) {
             double z = tc_mesh_corner_value(m, t, k)[ch];
-            *lo = fmin(*lo, z), *hi = fmax(*hi, z);
+            *lo = tc__fmin(*lo, z), *hi = tc__fmax(*hi, z);
         }
 }
 
 static void start(const tc_mesh *m, int ch, tc_overshoot_stats *s) {
     memset(s, 0, sizeof *s);
     data_range(m, ch, &s->lo, &s->hi);
-    double r = s->hi - s->lo, mag = fmax(fabs(s->lo), fabs(s->hi));
+    double r = s->hi - s->lo, mag = tc__fmax(fabs(s->lo), fabs(s->hi));
     s->unit = r > 0 ? r : mag > 0 ? mag : 1;
     s->worst_tri = s->worst_i = s->worst_j = -1;
 }
@@ -38,13 +40,13 @@ static double excursion(const tc_mesh *m, int32_t t, int ch, float v, double uni
         float z = (float)tc_mesh_corner_value(m, t, k)[ch];
         lo = fminf(lo, z), hi = fmaxf(hi, z);
     }
-    double over = fmax(0, fmax((double)v - hi, lo - (double)v));
+    double over = tc__fmax(0, tc__fmax((double)v - hi, lo - (double)v));
     return over / unit;
 }
 
 static void count(tc_overshoot_stats *s, double e, float v, double threshold, int32_t t, int32_t i, int32_t j) {
-    s->min_value = s->pixels ? fmin(s->min_value, v) : v;
-    s->max_value = s->pixels ? fmax(s->max_value, v) : v;
+    s->min_value = s->pixels ? tc__fmin(s->min_value, v) : v;
+    s->max_value = s->pixels ? tc__fmax(s->max_value, v) : v;
     s->pixels++;
     s->negative += s->lo >= 0 && v < 0;
     s->beyond += e > threshold;

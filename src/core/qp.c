@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/minmax.h"
 #include "core/qp.h"
 
 /* A pivot below this fraction of the matrix's largest entry is rounding of a
@@ -23,7 +24,7 @@
  * the matrix's largest entry. */
 static int solve_dense(int k, double *M, double *r) {
     double big = 0;
-    for (int i = 0; i < k * k; i++) big = fmax(big, fabs(M[i]));
+    for (int i = 0; i < k * k; i++) big = tc__fmax(big, fabs(M[i]));
     for (int c = 0; c < k; c++) {
         int p = c;
         for (int i = c + 1; i < k; i++)
@@ -114,7 +115,7 @@ static void advance(problem *q, double *y, const double *p) {
          * rounding; it must not block (adding it would make the KKT system singular). */
         double cp = active || q->banned[i] ? 0 : dot(c, p, q->n);
         if (!(cp > BLOCK_MIN_COS * sqrt(dot(c, c, q->n)) * pn)) continue;
-        double slack = fmax(0, q->b[i] - dot(q->C + i * q->n, y, q->n)), a = slack / cp;
+        double slack = tc__fmax(0, q->b[i] - dot(q->C + i * q->n, y, q->n)), a = slack / cp;
         if (a < alpha) alpha = a, block = i;
     }
     for (int j = 0; j < q->n; j++) y[j] += alpha * p[j];
@@ -128,7 +129,7 @@ static int solve_scaled(int n, const double *H, const double *f, int neq, const 
     double *M = malloc((size_t)kmax * (size_t)kmax * sizeof *M);
     if (!M) return -1;
     double p[TC_QP_MAXN], mu[TC_QP_MAXEQ + TC_QP_MAXN], scale = 0;
-    for (int i = 0; i < n; i++) scale = fmax(scale, fabs(f[i]) / H[i * n + i]);
+    for (int i = 0; i < n; i++) scale = tc__fmax(scale, fabs(f[i]) / H[i * n + i]);
     int rc = 1;
     for (int it = 0; it < 8 * (m + n); it++) {
         if (kkt_step(&q, y, M, p, mu)) {
@@ -145,7 +146,7 @@ static int solve_scaled(int n, const double *H, const double *f, int neq, const 
         /* With as many working rows as variables y is a vertex and p is 0 but
          * for rounding; otherwise a step below rounding of y's scale is none. */
         double pn = 0, yn = 0;
-        for (int j = 0; j < n; j++) pn = fmax(pn, fabs(p[j])), yn = fmax(yn, fabs(y[j]));
+        for (int j = 0; j < n; j++) pn = tc__fmax(pn, fabs(p[j])), yn = tc__fmax(yn, fabs(y[j]));
         if (q.neq + q.nwork >= n || pn <= STEP_NEGLIGIBLE * (scale + yn)) {
             if (!drop_negative(&q, mu)) {
                 rc = 0;

@@ -8,6 +8,7 @@
 #include "core/alloc.h"
 #include "core/geom.h"
 #include "core/mesh.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 #include "core/qp.h"
 #include "core/range.h"
@@ -90,7 +91,7 @@ static double sampled_excursion(const struct tc_recon *r, int32_t t, int ch, con
             double l[3] = {i / 6.0, j / 6.0, (6 - i - j) / 6.0}, x = 0, y = 0;
             for (int k = 0; k < 3; k++) x += l[k] * tc__vxy(m, tv[k])[0], y += l[k] * tc__vxy(m, tv[k])[1];
             tc_eval_triangle(r, t, x, y, v, NULL);
-            worst = fmax(worst, tc__outside(v[ch], e->lo, e->hi, 0));
+            worst = tc__fmax(worst, tc__outside(v[ch], e->lo, e->hi, 0));
         }
     return worst;
 }
@@ -101,21 +102,21 @@ void tc__range_report_free(const struct tc_recon *r, int nord, tc_diags *dg) {
     for (int ch = 0; ch < nc; ch++) {
         excursion e = {INFINITY, -INFINITY, 0, 0, -1, 0};
         for (size_t c = 0; c < 3 * (size_t)m->nt; c++)
-            e.lo = fmin(e.lo, m->cz[c * (size_t)nc + (size_t)ch]), e.hi = fmax(e.hi, m->cz[c * (size_t)nc + (size_t)ch]);
-        double tol = TC_RANGE_SLACK * fmax(fabs(e.lo), fabs(e.hi));
+            e.lo = tc__fmin(e.lo, m->cz[c * (size_t)nc + (size_t)ch]), e.hi = tc__fmax(e.hi, m->cz[c * (size_t)nc + (size_t)ch]);
+        double tol = TC_RANGE_SLACK * tc__fmax(fabs(e.lo), fabs(e.hi));
         for (int32_t t = 0; t < m->nt; t++) {
             const double *o = r->coef + tc__ix(t, nc, ch) * (size_t)ncoef;
             double out = 0;
-            for (int i = 0; i < nord; i++) out = fmax(out, tc__outside(o[i], e.lo, e.hi, tol));
+            for (int i = 0; i < nord; i++) out = tc__fmax(out, tc__outside(o[i], e.lo, e.hi, tol));
             if (out == 0) continue;
             e.count++;
-            e.at = fmax(e.at, sampled_excursion(r, t, ch, &e));
+            e.at = tc__fmax(e.at, sampled_excursion(r, t, ch, &e));
             if (out > e.net) e.net = out, e.t = t;
         }
         if (!e.count) continue;
         char path[48];
         tc__elem_path(m, e.t, path, sizeof path);
-        double range = e.hi > e.lo ? e.hi - e.lo : fmax(fabs(e.hi), 1e-300);
+        double range = e.hi > e.lo ? e.hi - e.lo : tc__fmax(fabs(e.hi), 1e-300);
         tc_diags_add(dg, TC_SEV_WARNING, path,
                      "range \"free\": channel %d leaves its data's range [%.6g, %.6g] in %d triangles: by %.3g "
                      "(%.3g of the range) or more, at most %.3g by its Bézier net, the most here; range \"local\" "
@@ -210,7 +211,7 @@ static int add_row(group *G, int slot, const double d[2], double lo, double hi) 
     for (int i = 0; i < G->nrows; i++) {
         row *r = &G->rows[i];
         if (r->slot == slot && same_dir(r->d, d)) {
-            r->lo = fmax(r->lo, lo), r->hi = fmin(r->hi, hi);
+            r->lo = tc__fmax(r->lo, lo), r->hi = tc__fmin(r->hi, hi);
             return 0;
         }
     }
@@ -244,7 +245,7 @@ static double violation(const group *G, const double *y, double tol) {
     for (int i = 0; i < G->nrows; i++) {
         const row *r = &G->rows[i];
         double v = tc__dot(r->d, y + 2 * r->slot);
-        worst = fmax(worst, tc__outside(v, r->lo, r->hi, tol));
+        worst = tc__fmax(worst, tc__outside(v, r->lo, r->hi, tol));
     }
     return worst;
 }
@@ -256,10 +257,10 @@ static double scale_inside(const group *G, const double *y, double tol) {
     for (int i = 0; i < G->nrows; i++) {
         const row *r = &G->rows[i];
         double v = tc__dot(r->d, y + 2 * r->slot);
-        if (v > r->hi + tol) lambda = fmin(lambda, r->hi / v);
-        else if (v < r->lo - tol) lambda = fmin(lambda, r->lo / v);
+        if (v > r->hi + tol) lambda = tc__fmin(lambda, r->hi / v);
+        else if (v < r->lo - tol) lambda = tc__fmin(lambda, r->lo / v);
     }
-    return fmax(lambda, 0);
+    return tc__fmax(lambda, 0);
 }
 
 /* Per slot the metric of the ordinates the plane moves, Q = sum d d' over
@@ -335,7 +336,7 @@ static int link_rows(const group *G, const double *y0, double *Aeq, double *C, d
             memset(c, 0, (size_t)n * sizeof *c);
             c[2 * L[e].s] = sign * nrm[0], c[2 * L[e].s + 1] = sign * nrm[1];
             c[2 * L[e].o] = -sign * nrm[0], c[2 * L[e].o + 1] = -sign * nrm[1];
-            b[(*m)++] = fmax(0, sign * kink);
+            b[(*m)++] = tc__fmax(0, sign * kink);
         }
     }
     return nl;
@@ -380,7 +381,7 @@ static int project(const group *G, const double Q[][3], const double *y0, double
             double *c = C + (size_t)m * (size_t)n;
             memset(c, 0, (size_t)n * sizeof *c);
             c[2 * r->slot] = sign * r->d[0], c[2 * r->slot + 1] = sign * r->d[1];
-            b[m++] = fmax(lim, 0);
+            b[m++] = tc__fmax(lim, 0);
         }
     }
     int neq = link_rows(G, y0, Aeq, C, b, &m, n);
@@ -395,7 +396,7 @@ static double largest_move(const group *G, const double *y0, const double *y) {
     double worst = 0;
     for (int i = 0; i < G->nrows; i++) {
         const row *r = &G->rows[i];
-        worst = fmax(worst, fabs(tc__dot(r->d, y + 2 * r->slot) - tc__dot(r->d, y0 + 2 * r->slot)));
+        worst = tc__fmax(worst, fabs(tc__dot(r->d, y + 2 * r->slot) - tc__dot(r->d, y0 + 2 * r->slot)));
     }
     return worst;
 }
@@ -454,14 +455,14 @@ static limited shrink_group(group *G, int32_t w, double *planes) {
     for (int i = 0; i < n; i++) {
         G->k = 1, G->w[0] = all[i];
         if (gather_rows(G)) lambda = 0;
-        else lambda = fmin(lambda, scale_inside(G, plane_at(planes, ws, G->m->nc, all[i], G->ch), G->b->tol[G->ch]));
+        else lambda = tc__fmin(lambda, scale_inside(G, plane_at(planes, ws, G->m->nc, all[i], G->ch), G->b->tol[G->ch]));
     }
     for (int i = 0; i < n; i++) {
         double *p = plane_at(planes, ws, G->m->nc, all[i], G->ch);
         G->k = 1, G->w[0] = all[i];
         if (gather_rows(G) == 0) {
             double y0[2] = {p[0], p[1]}, y[2] = {lambda * p[0], lambda * p[1]};
-            move = fmax(move, largest_move(G, y0, y));
+            move = tc__fmax(move, largest_move(G, y0, y));
         }
     }
     tc__free(all);

@@ -14,6 +14,7 @@
 #include "core/geom.h"
 #include "core/locate.h"
 #include "core/mesh.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 #include "core/recon.h"
 
@@ -771,7 +772,7 @@ static void render_band(job *jb, int32_t b, int32_t *scratch) {
     double xa, ya, xb, yb, lo[2], hi[2];
     tc_viewport_pixel_center(vp, 0, bd.j1 - 1, &xa, &ya);
     tc_viewport_pixel_center(vp, vp->width - 1, bd.j0, &xb, &yb);
-    lo[0] = fmin(xa, xb), hi[0] = fmax(xa, xb), lo[1] = fmin(ya, yb), hi[1] = fmax(ya, yb);
+    lo[0] = tc__fmin(xa, xb), hi[0] = tc__fmax(xa, xb), lo[1] = tc__fmin(ya, yb), hi[1] = tc__fmax(ya, yb);
     tc__locator_query_box(jb->L, lo, hi, cover_later, &bd);
     for (; bd.nheld > 0; bd.nheld--, bd.first = (bd.first + 1) % PREFETCH_AHEAD) cover(&bd, bd.held[bd.first]);
     settle_band(&bd);
@@ -860,8 +861,8 @@ static void overlay_colour(tc_continuity kind, int boundary, int nc, double scal
  * the same whichever rows are drawn: a band's line is the whole tile's line. */
 static void draw_line(const tc_viewport *vp, int32_t row0, int32_t rows, int nc, const float *c, double ax,
                       double ay, double bx, double by, float *values) {
-    if (floor(fmax(ay, by) + 0.5) < row0 || floor(fmin(ay, by) + 0.5) >= row0 + rows) return; /* not in the band */
-    double n = ceil(fmax(fabs(bx - ax), fabs(by - ay)));
+    if (floor(tc__fmax(ay, by) + 0.5) < row0 || floor(tc__fmin(ay, by) + 0.5) >= row0 + rows) return; /* not in the band */
+    double n = ceil(tc__fmax(fabs(bx - ax), fabs(by - ay)));
     if (!(n < 1e7)) return; /* an edge far outside the tile: skip rather than walk it */
     for (double k = 0; k <= n; k++) {
         double f = n > 0 ? k / n : 0;

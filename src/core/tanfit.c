@@ -31,6 +31,7 @@
 #include "core/geom.h"
 #include "core/lsq.h"
 #include "core/mesh.h"
+#include "core/minmax.h"
 #include "core/tanfit.h"
 
 /* Two vertex rings give a cubic 18 samples on a regular mesh; narrow wedges and
@@ -132,7 +133,7 @@ static void note_duplicates(const struct tc_mesh *m, const tc__fit_space *fs, ho
         int ia = fs->vsample[a], ib = fs->vsample[b], late = ia > ib ? ia : ib;
         if (h->dup[ia] || h->dup[ib]) continue;
         double ab[2] = {h->d[ia][0] - h->d[ib][0], h->d[ia][1] - h->d[ib][1]};
-        double near2 = fmin(tc__dot(h->d[ia], h->d[ia]), tc__dot(h->d[ib], h->d[ib]));
+        double near2 = tc__fmin(tc__dot(h->d[ia], h->d[ia]), tc__dot(h->d[ib], h->d[ib]));
         if (tc__dot(ab, ab) < SAME_POSITION * SAME_POSITION * near2) h->dup[late] = 1, h->ndup++;
     }
 }
@@ -191,7 +192,7 @@ static double ring1_median(const hood *h) {
 static void fit(const hood *h, const double *zv, int nc, double *g) {
     static const int terms[3] = {9, 5, 2};
     double s = 0;
-    for (int i = 0; i < h->n; i++) s = fmax(s, tc__hypot(h->d[i][0], h->d[i][1])); /* > 0: no sample sits on v */
+    for (int i = 0; i < h->n; i++) s = tc__fmax(s, tc__hypot(h->d[i][0], h->d[i][1])); /* > 0: no sample sits on v */
     double near = NEAR_CAP * ring1_median(h) / s;
     int distinct = h->n - h->ndup, order = distinct >= CUBIC_MIN ? 0 : distinct >= QUAD_MIN ? 1 : 2;
     for (; order < 3; order++) {
@@ -199,7 +200,7 @@ static void fit(const hood *h, const double *zv, int nc, double *g) {
         double A[TC_LSQ_MAXROWS][TC_LSQ_MAXCOLS], B[TC_LSQ_MAXROWS][TC_LSQ_MAXRHS], X[TC_LSQ_MAXCOLS][TC_LSQ_MAXRHS];
         for (int i = 0; i < h->n; i++) {
             /* w = 1/r applied twice, never 1/r^2: no overflow for any r a double holds */
-            double x = h->d[i][0] / s, y = h->d[i][1] / s, w = 1 / fmax(near, tc__hypot(x, y));
+            double x = h->d[i][0] / s, y = h->d[i][1] / s, w = 1 / tc__fmax(near, tc__hypot(x, y));
             double row[9] = {x, y, 0.5 * x * x, x * y, 0.5 * y * y, x * x * x / 6, 0.5 * x * x * y, 0.5 * x * y * y,
                              y * y * y / 6};
             for (int j = 0; j < cols; j++) A[i][j] = row[j] * w * w;

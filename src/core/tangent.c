@@ -9,6 +9,7 @@
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 #include "core/plane.h"
 #include "core/range.h"
@@ -122,9 +123,9 @@ static bound_effect bound_plane(const struct tc_mesh *m, const tc__wedge_set *ws
             int32_t c = ws->corners[w->first + i], t = c / 3;
             for (int k = 0; k < 3; k++) {
                 double z = cz[tc__ix(3 * t + k, nc, ch)], e[2];
-                lo = fmin(lo, z), hi = fmax(hi, z);
+                lo = tc__fmin(lo, z), hi = tc__fmax(hi, z);
                 tc__sub(e, tc__vxy(m, m->tri[3 * (size_t)t + (size_t)k]), tc__vxy(m, w->v));
-                rise = fmax(rise, fabs(tc__dot(gc, e)));
+                rise = tc__fmax(rise, fabs(tc__dot(gc, e)));
             }
         }
         double limit = PLANE_BOUND * (hi - lo);
@@ -133,8 +134,8 @@ static bound_effect bound_plane(const struct tc_mesh *m, const tc__wedge_set *ws
         gc[0] *= f, gc[1] *= f;
         double moved = (1 - f) * rise / 3; /* the most an edge ordinate z_v + g.e/3 moved */
         if (hi - lo <= FLAT_NOISE * cs->scale[ch] || !(moved > CLAMP_MATERIAL * cs->range[ch])) continue;
-        fx.factor = fmin(fx.factor, f);
-        fx.moved = fmax(fx.moved, moved / cs->range[ch]);
+        fx.factor = tc__fmin(fx.factor, f);
+        fx.moved = tc__fmax(fx.moved, moved / cs->range[ch]);
     }
     return fx;
 }

@@ -14,6 +14,7 @@
 #include "core/alloc.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
+#include "core/minmax.h"
 #include "core/parallel.h"
 #include "core/plane.h"
 #include "core/tangent.h"
@@ -163,7 +164,7 @@ static void line_plane(const plane_rules *pr, int32_t L, int ch, double g[2]) {
         } else {
             tc__normal_acc(S, a);
         }
-        if (pr->corrected) k = fmax(k, straightness_c0c0(&pr->ws->w[three[i]]));
+        if (pr->corrected) k = tc__fmax(k, straightness_c0c0(&pr->ws->w[three[i]]));
     }
     if (pr->by_area) g[0] /= wsum, g[1] /= wsum;
     else tc__normal_to_grad(S, g);
@@ -184,7 +185,7 @@ static void side_plane(const plane_rules *pr, int32_t wi, int s, int ch, double 
         line_plane(pr, on_line(pr, wi) ? wi : o, ch, g);
     } else if (o >= 0) {
         coupling(pr, wi, s, ch, g);
-        double k = pr->corrected ? fmax(straightness_c0c0(&pr->ws->w[wi]), straightness_c0c0(&pr->ws->w[o])) : 0;
+        double k = pr->corrected ? tc__fmax(straightness_c0c0(&pr->ws->w[wi]), straightness_c0c0(&pr->ws->w[o])) : 0;
         if (k > 0) {
             const double *v = pr->vplane + 2 * tc__ix(wi, pr->nc, ch);
             g[0] += k * (v[0] - g[0]);
@@ -266,7 +267,7 @@ static int literal_collinear(const tc__wedge *w, const double gp[2], const doubl
     *amp = INFINITY;
     if (!(P[2] != 0)) return -1; /* vertical: no plane */
     tc__normal_to_grad(P, out);
-    double inputs = fmax(tc__hypot(gp[0], gp[1]), tc__hypot(gn[0], gn[1])), g = tc__hypot(out[0], out[1]);
+    double inputs = tc__fmax(tc__hypot(gp[0], gp[1]), tc__hypot(gn[0], gn[1])), g = tc__hypot(out[0], out[1]);
     *amp = inputs > 0 ? g / inputs : g > 0 ? INFINITY : 1;
     return *amp <= PROJECT_LIMIT ? 0 : -1;
 }

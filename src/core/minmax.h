@@ -1,0 +1,17 @@
+/* minmax.h — fmax and fmin as inline comparisons, the same results as glibc's for every
+ * input, without a call into libm (gcc keeps them calls unless NaNs are ruled out). */
+#ifndef TC_CORE_MINMAX_H
+#define TC_CORE_MINMAX_H
+
+/* C99's fmax: the larger operand, or the one that is not a NaN. Equal operands (+0 and -0
+ * among them) give b, as glibc's x86-64 fmax does (maxsd), so results stay bit for bit. */
+static inline double tc__fmax(double a, double b) {
+    return a > b || b != b ? a : b;
+}
+
+/* C99's fmin, likewise: the smaller operand, or the one that is not a NaN; b when equal. */
+static inline double tc__fmin(double a, double b) {
+    return a < b || b != b ? a : b;
+}
+
+#endif
