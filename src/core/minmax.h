@@ -1,5 +1,6 @@
 /* minmax.h — fmax and fmin as inline comparisons, the same results as glibc's for every
- * input, without a call into libm (gcc keeps them calls unless NaNs are ruled out). */
+ * input but a signaling NaN (which no arithmetic makes), without a call into libm (gcc keeps
+ * them calls unless NaNs are ruled out). tests/unit/test_minmax.c compares them. */
 #ifndef TC_CORE_MINMAX_H
 #define TC_CORE_MINMAX_H
 
