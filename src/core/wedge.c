@@ -136,37 +136,65 @@ static int32_t link_across(const struct tc_mesh *m, tc__wedge_set *ws, int32_t l
     return ncoupled;
 }
 
-/* The parallel build: part p makes the wedges of vertices [lo, hi) into
- * w[vstart[lo] ..] (a vertex has at most as many wedges as corners) numbered
- * from 0, its corners at their serial place (fill = vstart[v] at vertex v);
- * then the parts' wedges are copied together in order into `packed` (with
- * more than one part: a fresh array, so the parts copy at once) and
- * renumbered, so the set is the serial one whatever the parts. */
+/* The parallel build: part p makes the wedges of vertices [lo, hi) into its slice of one
+ * slab (vertices and a quarter more, plus 16: a vertex has one wedge, or one per delimiting
+ * edge at it, far fewer than its corners), or, where they outgrow the slice, into an array
+ * of its own; numbered from 0, its corners at their serial place (fill = vstart[v] at
+ * vertex v). Then the parts' wedges are copied together in order into the set's array,
+ * exactly nw long, and renumbered, so the set is the serial one whatever the parts. (Sized
+ * by corners, 3nt wedges, the array was 28 MB at 131k triangles for ~5 MB of wedges; one
+ * array per part, each fresh, made the daemon fault its pages in on every request.) */
 typedef struct {
     const struct tc_mesh *m;
     tc__wedge_set *ws;
-    tc__wedge *packed; /* NULL: one part, its wedges already in place */
     int32_t deg;
+    tc__wedge *slab;
+    tc__wedge *part_w[TC_PARALLEL_MAX]; /* part p's wedges: its slice of the slab, or its own */
+    int own[TC_PARALLEL_MAX];           /* part_w[p] is an array of its own (freed once copied) */
     int32_t lo[TC_PARALLEL_MAX], nw[TC_PARALLEL_MAX], base[TC_PARALLEL_MAX], ncoupled[TC_PARALLEL_MAX];
     int nomem[TC_PARALLEL_MAX];
 } wedge_pass;
+
+/* Where the slice of the part starting at vertex lo begins in the slab: slices grow with
+ * their vertices' count, so part p's ends where part p + 1's begins. */
+static size_t slice_at(int32_t lo, int part) {
+    return (size_t)lo + (size_t)lo / 4 + 16 * (size_t)part;
+}
+
+/* Room for one more wedge in *w (*cap of them): when full, an array of its own twice as
+ * long (the slice it leaves stays the slab's). 0 when out of memory. */
+static int wedge_room(tc__wedge **w, int32_t nw, int32_t *cap, int *own) {
+    if (nw < *cap) return 1;
+    int32_t more = *cap > INT32_MAX / 2 ? INT32_MAX : 2 * *cap;
+    tc__wedge *bigger = more > *cap ? tc__malloc((size_t)more, sizeof *bigger) : NULL;
+    if (!bigger) return 0;
+    memcpy(bigger, *w, (size_t)nw * sizeof *bigger);
+    if (*own) tc__free(*w);
+    *w = bigger, *cap = more, *own = 1;
+    return 1;
+}
 
 static void wedges_part(void *ctx, int32_t lo, int32_t hi, int part) {
     wedge_pass *wp = ctx;
     const struct tc_mesh *m = wp->m;
     tc__wedge_set local = *wp->ws;
-    int32_t fill = m->vstart[lo];
-    local.w = wp->ws->w + m->vstart[lo];
+    int32_t fill = m->vstart[lo], cap = (int32_t)(slice_at(hi, part + 1) - slice_at(lo, part));
+    int own = 0;
+    local.w = wp->slab + slice_at(lo, part);
     local.nw = 0;
     wp->lo[part] = lo;
     int32_t *buf = tc__malloc(2 * (size_t)wp->deg, sizeof *buf);
-    wp->nomem[part] = !buf;
-    for (int32_t v = lo; v < hi && buf; v++) {
+    int ok = buf != NULL;
+    for (int32_t v = lo; v < hi && ok; v++) {
         local.vclass[v] = classify(m, local.honor_flags, v);
-        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1]; i++)
-            if (local.of_corner[m->vcorner[i]] < 0) build_wedge(m, &local, v, m->vcorner[i], buf, wp->deg, &fill);
+        for (int32_t i = m->vstart[v]; i < m->vstart[v + 1] && ok; i++)
+            if (local.of_corner[m->vcorner[i]] < 0 && (ok = wedge_room(&local.w, local.nw, &cap, &own)))
+                build_wedge(m, &local, v, m->vcorner[i], buf, wp->deg, &fill);
     }
     tc__free(buf);
+    wp->nomem[part] = !ok;
+    wp->part_w[part] = local.w;
+    wp->own[part] = own;
     wp->nw[part] = local.nw;
 }
 
@@ -175,8 +203,9 @@ static void renumber_part(void *ctx, int32_t lo, int32_t hi, int part) {
     const struct tc_mesh *m = wp->m;
     int32_t shift = wp->base[part];
     TC_ASSERT(wp->lo[part] == lo);
-    if (wp->packed)
-        memcpy(wp->packed + shift, wp->ws->w + m->vstart[lo], (size_t)wp->nw[part] * sizeof *wp->packed);
+    if (wp->part_w[part] != wp->ws->w) /* else one part, its slice the set's array already */
+        memcpy(wp->ws->w + shift, wp->part_w[part], (size_t)wp->nw[part] * sizeof *wp->ws->w);
+    if (wp->own[part]) tc__free(wp->part_w[part]), wp->own[part] = 0;
     for (int32_t i = m->vstart[lo]; i < m->vstart[hi]; i++) wp->ws->of_corner[m->vcorner[i]] += shift;
 }
 
@@ -199,32 +228,37 @@ int tc__wedges_build_on(const struct tc_mesh *m, int honor_flags, int threads, t
     memset(ws, 0, sizeof *ws);
     ws->honor_flags = honor_flags;
     ws->threads = threads;
-    ws->w = tc__malloc(nc, sizeof *ws->w); /* at most one wedge per corner */
     ws->corners = tc__malloc(nc, sizeof *ws->corners);
     ws->of_corner = tc__malloc(nc, sizeof *ws->of_corner);
     ws->vclass = tc__malloc((size_t)m->nv, sizeof *ws->vclass);
-    if (!ws->w || !ws->corners || !ws->of_corner || !ws->vclass) {
+    if (!ws->corners || !ws->of_corner || !ws->vclass) {
         tc__wedges_free(ws);
         return TC_ENOMEM;
     }
     tc__parallel_for(threads, (int32_t)nc, 16384, no_wedge_part, ws);
     wedge_pass wp = {.m = m, .ws = ws, .deg = deg};
-    int parts = tc__parallel_parts(threads, m->nv, 4096);
+    int parts = tc__parallel_parts(threads, m->nv, 4096), nomem = 0;
+    if (!(wp.slab = tc__malloc(slice_at(m->nv, parts), sizeof *wp.slab))) {
+        tc__wedges_free(ws);
+        return TC_ENOMEM;
+    }
     tc__parallel_for(threads, m->nv, 4096, wedges_part, &wp);
     for (int p = 0; p < parts; p++) {
-        if (wp.nomem[p]) {
-            tc__wedges_free(ws);
-            return TC_ENOMEM;
-        }
+        nomem |= wp.nomem[p];
         wp.base[p] = ws->nw;
         ws->nw += wp.nw[p];
     }
-    if (parts > 1 && !(wp.packed = tc__malloc((size_t)ws->nw, sizeof *wp.packed))) {
+    if (parts == 1 && !wp.own[0]) ws->w = wp.slab, wp.slab = NULL; /* its wedges in place */
+    else if (!nomem && !(ws->w = tc__malloc((size_t)ws->nw, sizeof *ws->w))) nomem = 1;
+    if (nomem) {
+        for (int p = 0; p < parts; p++)
+            if (wp.own[p]) tc__free(wp.part_w[p]);
+        tc__free(wp.slab);
         tc__wedges_free(ws);
         return TC_ENOMEM;
     }
     tc__parallel_for(threads, m->nv, 4096, renumber_part, &wp); /* the same parts: the split depends on n only */
-    if (wp.packed) tc__free(ws->w), ws->w = wp.packed;
+    tc__free(wp.slab);
     tc__parallel_for(threads, ws->nw, 4096, across_part, &wp);
     for (int p = 0; p < tc__parallel_parts(threads, ws->nw, 4096); p++) ws->ncoupled += wp.ncoupled[p];
     TC_ASSERT_CHECK(tc__wedges_check, m, ws);

@@ -384,6 +384,47 @@ TEST(threads_mesh_internals_bit_identical) {
     tmesh_free(&g);
 }
 
+/* Every edge flagged C0: each corner is a wedge of its own (3nt of them, six per interior
+ * vertex), so each part's wedge array, first sized for about one per vertex, grows many
+ * times; the set is the serial one on any number of threads. */
+TEST(threads_wedges_every_edge_flagged) {
+    trng r;
+    trng_seed(&r, tc_test_seed() + 29);
+    tmesh g;
+    tmesh_grid(&g, 130, 130, 0.3, -1, &r);
+    tmesh_sample(&g, 1, smooth_f, NULL, 1, 0, 0.3);
+    int32_t *start = malloc((3 * (size_t)g.nt + 1) * sizeof *start), *verts = malloc(6 * (size_t)g.nt * sizeof *verts);
+    int32_t nl = 0;
+    start[0] = 0;
+    for (int32_t c = 0; c < 3 * g.nt; c++) /* each interior edge once, a C0 polyline of its own */
+        if (g.enbr[c] > c / 3) {
+            verts[2 * nl] = g.tri[c], verts[2 * nl + 1] = g.tri[c / 3 * 3 + (c % 3 + 1) % 3];
+            nl++, start[nl] = 2 * nl;
+        }
+    tc_mesh_desc d;
+    tmesh_desc(&g, &d);
+    d.c0 = (tc_polylines){nl, start, verts};
+    tc_mesh *m = NULL;
+    CHECK(tc_mesh_new(&d, &m, NULL) == TC_OK);
+    static const int threads[] = {1, 3, 8};
+    tc__wedge_set ws1 = {0};
+    for (size_t i = 0; m && i < sizeof threads / sizeof threads[0]; i++) {
+        tc__wedge_set ws;
+        CHECK(tc__wedges_build_on(m, TC_HONOR_ALL, threads[i], &ws) == TC_OK);
+        CHECK_MSG(ws.nw == 3 * m->nt, "%d threads: %d wedges, not one per corner (%d)", threads[i], (int)ws.nw,
+                  (int)(3 * m->nt));
+        if (i == 0) ws1 = ws;
+        else {
+            CHECK_MSG(same_wedges(&ws1, &ws, 3 * m->nt, m->nv), "%d threads: the wedges differ", threads[i]);
+            tc__wedges_free(&ws);
+        }
+    }
+    tc__wedges_free(&ws1);
+    tc_mesh_free(m);
+    tmesh_free(&g);
+    free(start), free(verts);
+}
+
 /* Figure 6's literal Project amplifying the gradient (test_wedges.c's star: C0 on one
  * side of its vertex, C-1 on the other, steep given planes) at 3000 disjoint copies of
  * the star, each with its planes scaled differently (by lo .. hi): the
