@@ -52,5 +52,5 @@ void *tc__calloc_huge(size_t bytes) {
 }
 
 void tc__free(void *p) {
-    tc__spare_keep(TC__SPARE_ARRAYS, p, TC__HUGE_MIN);
+    tc__spare_keep(TC__SPARE_ARRAYS, p, TC__SPARE_MIN);
 }

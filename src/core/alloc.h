@@ -19,7 +19,7 @@ void *tc__calloc_huge(size_t bytes);
  * huge pages inside [p, p + bytes) are to be backed by huge pages. Changes no byte. */
 void tc__advise_huge(void *p, size_t bytes);
 
-/* free(p), for every block the core allocates: one of TC__HUGE_MIN bytes or more is kept as a
+/* free(p), for every block the core allocates: one of TC__SPARE_MIN bytes or more is kept as a
  * spare (core/spare.h) for the next big array, so that a daemon's next request does not fault
  * in and zero its pages again (they are lazily free meanwhile: the kernel may take them back). */
 void tc__free(void *p);

@@ -12,6 +12,11 @@ enum { TC__SPARE_ARRAYS, TC__SPARE_ANSWERS, TC__SPARE_POOLS };
 #define TC__SPARE_MAX ((size_t)256 << 20)
 #define TC__SPARES 32
 
+/* The least block worth keeping: glibc reuses smaller freed blocks from its heap (their
+ * mmap threshold rises to 32 MiB as such blocks are freed), whose pages stay; 4 MiB blocks
+ * already went to fresh mappings in a daemon's requests, and faulted in again each time. */
+#define TC__SPARE_MIN ((size_t)4 << 20)
+
 /* The smallest spare of n to 2n bytes, taken (uninitialized, like malloc's; free it with
  * tc__spare_keep or free), or NULL. Not a bigger one: a spare is usually the same array or
  * answer of the last request, and serves best the block of its own size. With drop_smaller,

@@ -21,7 +21,7 @@ void tc__huge_advise(void *p, size_t n) {
 }
 
 void *tc__huge_take(size_t n) {
-    return n < TC_HUGE_SPARE_MIN ? NULL : tc__spare_take(TC__SPARE_ANSWERS, n, 1); /* a block that small: glibc's */
+    return n < TC__SPARE_MIN ? NULL : tc__spare_take(TC__SPARE_ANSWERS, n, 1); /* a block that small: glibc's */
 }
 
 void *tc__huge_realloc(void *p, size_t n) {
@@ -44,7 +44,7 @@ void tc__huge_free(void *p) {
 }
 
 void tc__huge_keep(void *p) {
-    tc__spare_keep(TC__SPARE_ANSWERS, p, TC_HUGE_SPARE_MIN);
+    tc__spare_keep(TC__SPARE_ANSWERS, p, TC__SPARE_MIN);
 }
 
 size_t tc__huge_spare(void) { return tc__spare_bytes(TC__SPARE_ANSWERS); }

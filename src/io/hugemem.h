@@ -28,30 +28,27 @@ void tc__huge_advise(void *p, size_t n);
  * text (strbuf.c) and a raw image written whole (image/codec.c). */
 void *tc__huge_realloc(void *p, size_t n);
 
-/* free(p); except that a big block (TC_HUGE_MIN .. TC_HUGE_SPARE_MAX usable bytes) is kept as a
+/* free(p); except that a big block (TC_HUGE_MIN .. TC__SPARE_MAX usable bytes) is kept as a
  * spare (core/spare.h, which the core's big arrays share). Why answers: glibc gives every block
  * from 32 MiB its own mapping and unmaps it on free (smaller ones it reuses: their threshold
  * moves up to 32 MiB as such blocks are freed, so they are left to it), and so each big answer
  * was written into fresh pages that the kernel faults in and zeroes again. Measured on the 2-core
  * VM, the JSON ordinates of 131k triangles (49 MB, two threads): encoding 90-170 ms into fresh
  * buffers, 44-51 ms into the last answer's. A spare's pages are lazily free (MADV_FREE), so an
- * idle daemon holds at most TC_HUGE_SPARE_MAX, reclaimable, outside the render budget
+ * idle daemon holds at most TC__SPARE_MAX, reclaimable, outside the render budget
  * (--max-memory). */
 void tc__huge_free(void *p);
 
-/* The same from TC_HUGE_SPARE_MIN: for buffers only tc__huge_take reuses, which glibc would not
+/* The same from TC__SPARE_MIN: for buffers only tc__huge_take reuses, which glibc would not
  * (the part buffers of a parallel text, textpar.c: 2 MiB aligned blocks of their own, or a heap
  * that it trims, 4 KiB faults each time). */
 void tc__huge_keep(void *p);
 
 /* The smallest spare answer buffer of n to 2n bytes, taken (uninitialized, like malloc's); NULL
- * if n < TC_HUGE_SPARE_MIN or none fits, and then the largest spare smaller than n is freed: it
+ * if n < TC__SPARE_MIN or none fits, and then the largest spare smaller than n is freed: it
  * would only sit beside the block the caller makes instead. Free the result with tc__huge_free
  * (or free). */
 void *tc__huge_take(size_t n);
-
-#define TC_HUGE_SPARE_MIN ((size_t)4 << 20) /* tc__huge_keep's least: below, glibc reuses blocks */
-#define TC_HUGE_SPARE_MAX TC__SPARE_MAX     /* all spares together (core/spare.h) */
 
 /* Test hook: the bytes the spares hold. */
 size_t tc__huge_spare(void);

@@ -84,7 +84,7 @@ TEST(hugemem_spares_serve_the_next_big_blocks) {
     tc__huge_free(NULL);
     tc__huge_free(malloc(1000));
     CHECK_MSG(tc__huge_spare() == 0, "a 1000-byte block became a spare");
-    size_t n = TC_HUGE_MIN + 4096, part = TC_HUGE_SPARE_MIN + 100;
+    size_t n = TC_HUGE_MIN + 4096, part = TC__SPARE_MIN + 100;
     char *p = tc__huge_realloc(NULL, n), *q0 = malloc(part);
     CHECK(p && q0);
     if (!p || !q0) return;
@@ -96,7 +96,7 @@ TEST(hugemem_spares_serve_the_next_big_blocks) {
     CHECK(q0 != NULL);
     if (!q0) return;
     tc__huge_free(p);
-    tc__huge_keep(q0); /* a part buffer: kept from TC_HUGE_SPARE_MIN */
+    tc__huge_keep(q0); /* a part buffer: kept from TC__SPARE_MIN */
     size_t both = tc__huge_spare();
     CHECK_MSG(both >= n + part, "spares %zu bytes after freeing %zu and %zu", both, n, part);
     CHECK_MSG(tc__huge_take(1000) == NULL && tc__huge_spare() == both, "a 1000-byte block was a spare");

@@ -49,7 +49,7 @@ TEST(spare_core_arrays_reused) {
 TEST(spare_pool_bounds) {
     tc__spare_drop(TC__SPARE_ARRAYS);
     size_t unit = TC__SPARE_MAX / 16;
-    for (int i = 0; i < 20; i++) tc__spare_keep(TC__SPARE_ARRAYS, malloc(unit + (size_t)i * 4096), TC__HUGE_MIN);
+    for (int i = 0; i < 20; i++) tc__spare_keep(TC__SPARE_ARRAYS, malloc(unit + (size_t)i * 4096), TC__SPARE_MIN);
     size_t held = tc__spare_bytes(TC__SPARE_ARRAYS);
     CHECK_MSG(held <= TC__SPARE_MAX && held >= TC__SPARE_MAX - 2 * unit, "%zu bytes held", held);
     void *big = tc__spare_take(TC__SPARE_ARRAYS, unit + 19 * 4096, 0); /* the largest was kept */
@@ -58,10 +58,10 @@ TEST(spare_pool_bounds) {
     void *small = tc__spare_take(TC__SPARE_ARRAYS, unit + 4096, 0); /* smaller ones: the first kept went */
     CHECK(small != NULL && malloc_usable_size(small) < unit + 19 * 4096);
     free(small);
-    for (int i = 0; i < TC__SPARES + 4; i++) tc__spare_keep(TC__SPARE_ARRAYS, malloc(TC__HUGE_MIN), TC__HUGE_MIN);
+    for (int i = 0; i < TC__SPARES + 4; i++) tc__spare_keep(TC__SPARE_ARRAYS, malloc(TC__SPARE_MIN), TC__SPARE_MIN);
     CHECK(tc__spare_bytes(TC__SPARE_ARRAYS) <= TC__SPARE_MAX);
     size_t before = tc__spare_bytes(TC__SPARE_ARRAYS);
-    tc__spare_keep(TC__SPARE_ARRAYS, malloc(TC__SPARE_MAX + 1), TC__HUGE_MIN);
+    tc__spare_keep(TC__SPARE_ARRAYS, malloc(TC__SPARE_MAX + 1), TC__SPARE_MIN);
     CHECK(tc__spare_bytes(TC__SPARE_ARRAYS) == before);
     tc__spare_drop(TC__SPARE_ARRAYS);
 }
