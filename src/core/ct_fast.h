@@ -81,8 +81,10 @@ TC__V4_INLINE tc__v4d tc__ct_fast_own(tc__v4d h, tc__v4i is0, tc__v4i is1) {
 #endif
 }
 
-/* Values v[ch] at the four centres (x[l], y) of the row whose constants R gives. */
-TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], tc__v4d x, tc__v4d *v) {
+/* Values v[ch] (ch < nc, nc <= ff->nc) at the four centres (x[l], y) of the row whose constants R
+ * gives. A caller that passes a constant nc gets the channel loops unrolled and v kept in
+ * registers (one channel: a 1024² grid64 tile ~4% faster). */
+TC__V4_INLINE void tc__ct_fast_lanes_nc(const tc__ct_fast *ff, int nc, const double R[3], tc__v4d x, tc__v4d *v) {
     tc__v4d t = x - tc__splat(ff->x0);
     tc__v4d d01 = tc__splat(R[0]) + tc__splat(ff->gx[0]) * t, d02 = tc__splat(R[1]) + tc__splat(ff->gx[1]) * t;
     tc__v4d d12 = tc__splat(R[2]) + tc__splat(ff->gx[2]) * t;
@@ -95,7 +97,7 @@ TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], t
     if (s >= 0) {
         a = s == 0 ? d01 : s == 1 ? d12 : d02;
         b = s == 0 ? d02 : s == 1 ? d01 : d12;
-        for (int ch = 0; ch < ff->nc; ch++) {
+        for (int ch = 0; ch < nc; ch++) {
             for (int k = 0; k < TC__NH; k++) h[k] = tc__splat(ff->h[ch][k][s]);
             v[ch] = tc__ct_fast_horner(h, a, b);
         }
@@ -106,10 +108,15 @@ TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], t
      * that shares one subtriangle, for one evaluation instead of three. */
     a = tc__sel(is0, d01, tc__sel(is1, d12, d02));
     b = tc__sel(is0, d02, tc__sel(is1, d01, d12));
-    for (int ch = 0; ch < ff->nc; ch++) {
+    for (int ch = 0; ch < nc; ch++) {
         for (int k = 0; k < TC__NH; k++) h[k] = tc__ct_fast_own(ff->h[ch][k], is0, is1);
         v[ch] = tc__ct_fast_horner(h, a, b);
     }
+}
+
+/* Every channel's values: tc__ct_fast_lanes_nc with ff->nc. */
+TC__V4_INLINE void tc__ct_fast_lanes(const tc__ct_fast *ff, const double R[3], tc__v4d x, tc__v4d *v) {
+    tc__ct_fast_lanes_nc(ff, ff->nc, R, x, v);
 }
 
 #endif

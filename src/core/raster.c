@@ -223,11 +223,10 @@ TC__V4_INLINE tc__v4d vabs(tc__v4d a) {
  * in `mask` only; out is the first lane's pixel, full says all four lanes are
  * pixels of the row (the others, read and written back unchanged, belong to
  * this band's thread alone). */
-TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], tc__v4d x, unsigned mask,
-                                 int full, float *out) {
-    int nc = jb->nc;
+TC__V4_INLINE void store_lanes_nc(const tri *tr, int nc, const double K[3], tc__v4d x, unsigned mask, int full,
+                                   float *out) {
     tc__v4d v[TC_MAX_CHANNELS];
-    tc__ct_fast_lanes(&tr->ff, K, x, v);
+    tc__ct_fast_lanes_nc(&tr->ff, nc, K, x, v);
     for (int ch = 0; ch < nc; ch++) {
         v4f f = __builtin_convertvector(v[ch], v4f), big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}, low;
         /* as tile_float, then tc__floored: SSE's max(a, b) is a > b ? a : b, so a NaN or a -0
@@ -252,6 +251,13 @@ TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], 
         for (int l = 0; l < 4; l++)
             if (mask >> l & 1u) out[tc__ix(l, nc, ch)] = f[l];
     }
+}
+
+/* store_lanes_nc for the job's channels, the common single channel with its loops unrolled. */
+TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], tc__v4d x, unsigned mask,
+                                 int full, float *out) {
+    if (jb->nc == 1) store_lanes_nc(tr, 1, K, x, mask, full, out);
+    else store_lanes_nc(tr, jb->nc, K, x, mask, full, out);
 }
 
 /* Whether d = a - b is exact: Knuth's TwoSum error of a + (-b) is 0. */
