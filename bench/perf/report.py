@@ -315,7 +315,7 @@ def issue17_targets(r):
         if tr:  # side by side: the median of alternating rounds (tileratio.py), not two separate bests
             got = tr["ratio_median"]
             rows.append(["that tile ≥ 25× scipy on the same centres",
-                         "%.1f× here (median of %d alternating rounds, %.1f–%.1f×)%s" % (
+                         "%.1f× here (median of %d alternating rounds, each side its best of three; %.1f–%.1f×)%s" % (
                              got, tr["rounds"], tr["ratio_min"], tr["ratio_max"], extra),
                          "yes" if got >= 25 else "no"])
         elif scipy64:
