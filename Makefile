@@ -137,7 +137,7 @@ $(BUILD)/bench_phases: $(call obj,bench/perf/phases.c) $(BUILD)/libtocher.a
 
 bench: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/bench_perf $(BUILD)/bench_numfmt $(BUILD)/bench_scaling \
-	  $(BUILD)/bench_validate $(BUILD)/bench_phases
+	  $(BUILD)/bench_validate $(BUILD)/bench_phases $(BUILD)/bench_points
 	bench/perf/run.sh $(BUILD)
 
 # docs/report.md and docs/report/ (about 5 minutes on 2 cores).
@@ -182,7 +182,7 @@ check: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 ASSERTS=-DTC_DEBUG WARN_EXTRA=-Wconversion \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
 	  all build/san/test_unit build/san/report build/san/bench_perf build/san/bench_numfmt build/san/bench_scaling \
-	  build/san/bench_phases \
+	  build/san/bench_phases build/san/bench_points \
 	  build/san/bench_validate
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 tests/run.sh build/san
 

@@ -12,7 +12,12 @@
  *   ref_s, ref_grad_s       tc__eval_points_ref: the old batch path (tree, Z order, per-point frame)
  *   points_s, points_grad_s tc_eval_points: the new batch path
  *   points_2t_s     tc_eval_points_mt with 2 threads (values; wall time)
- * and whether the new path's owners, values and gradients equal the old one's bit for bit. */
+ * and whether the new path's owners, values and gradients equal the old one's bit for bit.
+ *
+ *     build/bench_points --batch DIR NAME...
+ *
+ * only times tc_eval_points (values, one thread), its best of 3 runs in wall time as a client
+ * would see it: sidebyside.py's tocher half of a round against scipy on the same points. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -78,20 +83,62 @@ static double best(void (*fn)(const ctx *), const ctx *c) {
     return b;
 }
 
-static void bench_mesh(const char *dir, const char *name, const double *xy, int first) {
+/* The mesh DIR/NAME.json reconstructed; exits when it does not build. */
+static void load_mesh(const char *dir, const char *name, char **json, tc_request **req, tc_mesh **m, tc_recon **r) {
     char path[1024];
     size_t len;
     snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    char *json = bench_slurp(path, &len);
-    tc_request *req = NULL;
-    tc_mesh *m = NULL;
-    tc_recon *r = NULL;
-    tc_locator *L = NULL;
-    if (!json || tc_request_parse(json, len, TC_REQ_MESH, &req, NULL) != TC_REQ_OK ||
-        tc_mesh_new(&req->desc, &m, NULL) != TC_OK || tc_recon_new(m, &req->opt, &r, NULL) != TC_OK) {
+    *json = bench_slurp(path, &len);
+    *req = NULL, *m = NULL, *r = NULL;
+    if (!*json || tc_request_parse(*json, len, TC_REQ_MESH, req, NULL) != TC_REQ_OK ||
+        tc_mesh_new(&(*req)->desc, m, NULL) != TC_OK || tc_recon_new(*m, &(*req)->opt, r, NULL) != TC_OK) {
         fprintf(stderr, "bench_points: %s does not build\n", path);
         exit(1);
     }
+}
+
+static void free_mesh(char *json, tc_request *req, tc_mesh *m, tc_recon *r, tc_locator *L) {
+    tc_locator_free(L);
+    tc_recon_free(r);
+    tc_mesh_free(m);
+    tc_request_free(req);
+    free(json);
+}
+
+/* --batch: tc_eval_points alone, values only, best of 3 in wall time. */
+static void bench_batch(const char *dir, const char *name, const double *xy, int first) {
+    char *json;
+    tc_request *req;
+    tc_mesh *m;
+    tc_recon *r;
+    tc_locator *L = NULL;
+    load_mesh(dir, name, &json, &req, &m, &r);
+    if (tc_locator_new(m, &L) != TC_OK) exit(1);
+    double *v = malloc(NPTS * sizeof *v);
+    int32_t *t = malloc(NPTS * sizeof *t);
+    if (!v || !t) exit(1);
+    ctx c = {r, L, xy, v, NULL, t, 1};
+    double b = INFINITY;
+    wall = 1;
+    for (int i = 0; i < 3; i++) {
+        double t0 = now_s();
+        run_points(&c);
+        b = fmin(b, now_s() - t0);
+    }
+    printf("%s\n  \"%s\": {\"triangles\": %d, \"points_s\": %.6g}", first ? "" : ",", name,
+           (int)tc_mesh_triangle_count(m), b);
+    fflush(stdout);
+    free(v), free(t);
+    free_mesh(json, req, m, r, L);
+}
+
+static void bench_mesh(const char *dir, const char *name, const double *xy, int first) {
+    char *json;
+    tc_request *req;
+    tc_mesh *m;
+    tc_recon *r;
+    tc_locator *L = NULL;
+    load_mesh(dir, name, &json, &req, &m, &r);
     double t0 = now_s();
     if (tc_locator_new(m, &L) != TC_OK) exit(1);
     double t_loc = now_s() - t0;
@@ -122,22 +169,20 @@ static void bench_mesh(const char *dir, const char *name, const double *xy, int 
            f_ref_g, f_pts_g, same ? "true" : "false");
     fflush(stdout);
     free(v0), free(g0), free(v1), free(g1), free(t0i), free(t1i);
-    tc_locator_free(L);
-    tc_recon_free(r);
-    tc_mesh_free(m);
-    tc_request_free(req);
-    free(json);
+    free_mesh(json, req, m, r, L);
 }
 
 int main(int argc, char **argv) {
-    if (argc < 3) {
-        fprintf(stderr, "usage: bench_points DIR NAME...\n");
+    int batch = argc > 1 && strcmp(argv[1], "--batch") == 0;
+    if (argc < 3 + batch) {
+        fprintf(stderr, "usage: bench_points [--batch] DIR NAME...\n");
         return 2;
     }
+    argv += batch, argc -= batch;
     double *raw = bench_points(argv[1], NPTS, "bench_points");
     if (!raw) return 1;
     printf("{\"points\": %d, \"meshes\": {", NPTS);
-    for (int i = 2; i < argc; i++) bench_mesh(argv[1], argv[i], raw, i == 2);
+    for (int i = 2; i < argc; i++) (batch ? bench_batch : bench_mesh)(argv[1], argv[i], raw, i == 2);
     printf("\n}}\n");
     free(raw);
     return 0;

@@ -15,12 +15,13 @@ grid64 (8192 triangles), grid256 (131 072) and grid512 (524 288), with exact gra
 
 The client: one keep-alive http.client connection per daemon, the body prepared beforehand
 (bytes), timed from sending the request to having read the whole answer (not decoding it).
-Figures are the best of N runs (--repeat, default 5; at most 3 for grid512); the phase breakdown
+Figures are the best of N rounds (--repeat, default 5; at most 3 for grid512), each round scipy
+once and then every case on every daemon once, so that a slow spell hits both sides; the phase breakdown
 (Server-Timing: parse, validate, build, encode, total in ms) is that of the best run, and
 "transport_ms" is the client's wall clock less the daemon's total (sending the body, the
 answer's bytes through the socket, HTTP framing).
 
-scipy (peers.py's definitions, best of N as well):
+scipy (peers.py's definitions, its best of the same rounds):
   - scipy_points_s: Delaunay(points) then peers.ct_given_gradients — the interpolator built
     from the points with the gradients given (no gradient estimate). The ratios use this.
   - scipy_tri_s:    peers.ct_given_gradients on an already built Delaunay (ct_build_grad_s
@@ -128,27 +129,49 @@ def check(status, answer, form, ntri):
     return shape
 
 
-def time_scipy(points, simplices, values, grads, repeat):
-    def from_points():
-        tri = Delaunay(points)
-        return peers.ct_given_gradients(tri, values, grads)
+def scipy_round(points, values, grads, tri0):
+    """One timing of each scipy figure: (from points, given a Delaunay), in seconds."""
+    gc.collect()
+    t0 = time.perf_counter()
+    peers.ct_given_gradients(Delaunay(points), values, grads)
+    tp = time.perf_counter() - t0
+    tri = peers.pristine(tri0)
+    gc.collect()
+    t0 = time.perf_counter()
+    peers.ct_given_gradients(tri, values, grads)
+    return tp, time.perf_counter() - t0
 
+
+def timed_rounds(name, points, simplices, values, grads, forms, daemons, repeat):
+    """The bodies of each form, then `repeat` rounds of: scipy once, each form on each daemon
+    once. In turns, so that a slow spell of the machine hits scipy and tocher alike. Returns
+    (best scipy from points, best scipy given a Delaunay, {form: ([best (t, timing)] per daemon,
+    body bytes, answer bytes, shape)})."""
     tri0 = Delaunay(points)
     assert np.array_equal(tri0.simplices, simplices)
-    best_p = best_t = None
+    res = {}
+    for form in forms:
+        data = body(points, simplices, values, grads, form)
+        res[form] = [data, [None] * len(daemons), 0, None]
+        for d in daemons:  # one untimed run each: warms up, checks the answer
+            _, status, answer, _ = d.post("/v1/ordinates", data)
+            res[form][2:] = [len(answer), check(status, answer, form, len(simplices))]
+            del answer
+    sp = st = None
     for _ in range(repeat):
-        gc.collect()
-        t0 = time.perf_counter()
-        from_points()
-        t = time.perf_counter() - t0
-        best_p = t if best_p is None else min(best_p, t)
-        tri = peers.pristine(tri0)
-        gc.collect()
-        t0 = time.perf_counter()
-        peers.ct_given_gradients(tri, values, grads)
-        t = time.perf_counter() - t0
-        best_t = t if best_t is None else min(best_t, t)
-    return best_p, best_t
+        tp, tt = scipy_round(points, values, grads, tri0)
+        sp, st = tp if sp is None else min(sp, tp), tt if st is None else min(st, tt)
+        for form in forms:
+            data, best = res[form][0], res[form][1]
+            for k, d in enumerate(daemons):
+                gc.collect()
+                t, status, answer, timing = d.post("/v1/ordinates", data)
+                assert status == 200
+                del answer
+                if best[k] is None or t < best[k][0]:
+                    best[k] = (t, timing)
+    log(f"{name}: scipy from points {sp * 1e3:.1f} ms, given a Delaunay {st * 1e3:.2f} ms")
+    return sp, st, {f: (r[1], len(r[0]), r[2], r[3]) for f, r in res.items()}
 
 
 def main(argv):
@@ -168,26 +191,12 @@ def main(argv):
             points, simplices, values, grads = mesh(name)
             ntri = len(simplices)
             repeat = args.repeat if ntri < 500_000 else max(1, min(args.repeat, 3))
-            sp, st = time_scipy(points, simplices, values, grads, repeat)
-            log(f"{name}: scipy from points {sp * 1e3:.1f} ms, given a Delaunay {st * 1e3:.2f} ms")
-            for form in (f for n, f in cases if n == name):
-                data = body(points, simplices, values, grads, form)
-                res = {"triangles": ntri, "body_bytes": len(data), "scipy_points_ms": sp * 1e3,
-                       "scipy_tri_ms": st * 1e3, "tocher": {}}
-                best = [None] * len(daemons)
-                for k, d in enumerate(daemons):  # one untimed run each: warms up, checks the answer
-                    _, status, answer, _ = d.post("/v1/ordinates", data)
-                    res["answer_bytes"] = len(answer)
-                    res["shape"] = check(status, answer, form, ntri)
-                    del answer
-                for _ in range(repeat):
-                    for k, d in enumerate(daemons):  # in turns: the machine's noise hits both
-                        gc.collect()
-                        t, status, answer, timing = d.post("/v1/ordinates", data)
-                        assert status == 200
-                        del answer
-                        if best[k] is None or t < best[k][0]:
-                            best[k] = (t, timing)
+            forms = [f for n, f in cases if n == name]
+            sp, st, timed = timed_rounds(name, points, simplices, values, grads, forms, daemons, repeat)
+            for form in forms:
+                best, body_bytes, answer_bytes, shape = timed[form]
+                res = {"triangles": ntri, "body_bytes": body_bytes, "scipy_points_ms": sp * 1e3,
+                       "scipy_tri_ms": st * 1e3, "tocher": {}, "answer_bytes": answer_bytes, "shape": shape}
                 for k, b in enumerate(builds):
                     t, timing = best[k]
                     ph = phases(timing)
