@@ -485,7 +485,10 @@ def stored_gets(D, S, N, ops):
                     r = send(unreachable_store(), m, concrete(tpath, GHOST))
                     label += " (its Redis store unreachable)"
                 else:
-                    r = send(S, m, concrete(tpath, mesh_id(S), "raw") + "?size=1024")
+                    # 16 channels: a 1024^2 raw tile of 64 MB takes ~150 ms here, far past 0.02 s even
+                    # on a fast machine (one channel took 14 ms, and a faster machine beat the deadline)
+                    wide = dict(grid(2), values=[[0.1 * k + 0.01 * c for c in range(16)] for k in range(9)])
+                    r = send(S, m, concrete(tpath, mesh_id(S, wide, "sixteen"), "raw") + "?size=1024")
                     label += " (past --request-timeout 0.02)"
             else:
                 check(label, False, "the test does not know how to provoke %d: teach it" % status)
