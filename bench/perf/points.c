@@ -83,64 +83,68 @@ static double best(void (*fn)(const ctx *), const ctx *c) {
     return b;
 }
 
-/* The mesh DIR/NAME.json reconstructed; exits when it does not build. */
-static void load_mesh(const char *dir, const char *name, char **json, tc_request **req, tc_mesh **m, tc_recon **r) {
+/* A mesh read, reconstructed and located: what both modes time against. */
+typedef struct {
+    char *json;
+    tc_request *req;
+    tc_mesh *m;
+    tc_recon *r;
+    tc_locator *L;
+} loaded;
+
+/* The mesh DIR/NAME.json reconstructed (its locator not yet made: bench_mesh times that);
+ * exits when it does not build. */
+static void load_mesh(const char *dir, const char *name, loaded *ld) {
     char path[1024];
     size_t len;
     snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    *json = bench_slurp(path, &len);
-    *req = NULL, *m = NULL, *r = NULL;
-    if (!*json || tc_request_parse(*json, len, TC_REQ_MESH, req, NULL) != TC_REQ_OK ||
-        tc_mesh_new(&(*req)->desc, m, NULL) != TC_OK || tc_recon_new(*m, &(*req)->opt, r, NULL) != TC_OK) {
+    *ld = (loaded){bench_slurp(path, &len), NULL, NULL, NULL, NULL};
+    if (!ld->json || tc_request_parse(ld->json, len, TC_REQ_MESH, &ld->req, NULL) != TC_REQ_OK ||
+        tc_mesh_new(&ld->req->desc, &ld->m, NULL) != TC_OK ||
+        tc_recon_new(ld->m, &ld->req->opt, &ld->r, NULL) != TC_OK) {
         fprintf(stderr, "bench_points: %s does not build\n", path);
         exit(1);
     }
 }
 
-static void free_mesh(char *json, tc_request *req, tc_mesh *m, tc_recon *r, tc_locator *L) {
-    tc_locator_free(L);
-    tc_recon_free(r);
-    tc_mesh_free(m);
-    tc_request_free(req);
-    free(json);
+static void free_mesh(loaded *ld) {
+    tc_locator_free(ld->L);
+    tc_recon_free(ld->r);
+    tc_mesh_free(ld->m);
+    tc_request_free(ld->req);
+    free(ld->json);
 }
 
 /* --batch: tc_eval_points alone, values only, best of 3 in wall time. */
 static void bench_batch(const char *dir, const char *name, const double *xy, int first) {
-    char *json;
-    tc_request *req;
-    tc_mesh *m;
-    tc_recon *r;
-    tc_locator *L = NULL;
-    load_mesh(dir, name, &json, &req, &m, &r);
-    if (tc_locator_new(m, &L) != TC_OK) exit(1);
+    loaded ld;
+    load_mesh(dir, name, &ld);
+    if (tc_locator_new(ld.m, &ld.L) != TC_OK) exit(1);
     double *v = malloc(NPTS * sizeof *v);
     int32_t *t = malloc(NPTS * sizeof *t);
     if (!v || !t) exit(1);
-    ctx c = {r, L, xy, v, NULL, t, 1};
+    ctx c = {ld.r, ld.L, xy, v, NULL, t, 1};
     double b = INFINITY;
     wall = 1;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < 3; i++) { /* 3, not REPS: sidebyside.py calls this once a round */
         double t0 = now_s();
         run_points(&c);
         b = fmin(b, now_s() - t0);
     }
     printf("%s\n  \"%s\": {\"triangles\": %d, \"points_s\": %.6g}", first ? "" : ",", name,
-           (int)tc_mesh_triangle_count(m), b);
+           (int)tc_mesh_triangle_count(ld.m), b);
     fflush(stdout);
     free(v), free(t);
-    free_mesh(json, req, m, r, L);
+    free_mesh(&ld);
 }
 
 static void bench_mesh(const char *dir, const char *name, const double *xy, int first) {
-    char *json;
-    tc_request *req;
-    tc_mesh *m;
-    tc_recon *r;
-    tc_locator *L = NULL;
-    load_mesh(dir, name, &json, &req, &m, &r);
+    loaded ld;
+    load_mesh(dir, name, &ld);
+    tc_recon *r = ld.r;
     double t0 = now_s();
-    if (tc_locator_new(m, &L) != TC_OK) exit(1);
+    if (tc_locator_new(ld.m, &ld.L) != TC_OK) exit(1);
+    const tc_locator *L = ld.L;
     double t_loc = now_s() - t0;
     t0 = now_s();
     tc__locator_grid_now(L); /* what the first large batch would do */
@@ -165,11 +169,11 @@ static void bench_mesh(const char *dir, const char *name, const double *xy, int 
     printf("%s\n  \"%s\": {\"triangles\": %d, \"locator_new_s\": %.6g, \"grid_s\": %.6g, \"locate_tree_s\": %.6g, \"locate_s\": %.6g, "
            "\"eval_known_s\": %.6g, \"ref_s\": %.6g, \"points_s\": %.6g, \"points_2t_s\": %.6g, "
            "\"ref_grad_s\": %.6g, \"points_grad_s\": %.6g, \"identical\": %s}",
-           first ? "" : ",", name, (int)tc_mesh_triangle_count(m), t_loc, t_grid, f_tree, f_loc, f_known, f_ref, f_pts, f_mt,
+           first ? "" : ",", name, (int)tc_mesh_triangle_count(ld.m), t_loc, t_grid, f_tree, f_loc, f_known, f_ref, f_pts, f_mt,
            f_ref_g, f_pts_g, same ? "true" : "false");
     fflush(stdout);
     free(v0), free(g0), free(v1), free(g1), free(t0i), free(t1i);
-    free_mesh(json, req, m, r, L);
+    free_mesh(&ld);
 }
 
 int main(int argc, char **argv) {
