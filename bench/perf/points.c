@@ -29,6 +29,7 @@
 #include "io/request.h"
 #include "tocher.h"
 #include "benchio.h"
+#include "benchmesh.h"
 
 #define NPTS 1000000
 #define REPS 5
@@ -83,43 +84,17 @@ static double best(void (*fn)(const ctx *), const ctx *c) {
     return b;
 }
 
-/* A mesh read, reconstructed and located: what both modes time against. */
-typedef struct {
-    char *json;
-    tc_request *req;
-    tc_mesh *m;
-    tc_recon *r;
-    tc_locator *L;
-} loaded;
-
-/* The mesh DIR/NAME.json reconstructed (its locator not yet made: bench_mesh times that);
- * exits when it does not build. */
-static void load_mesh(const char *dir, const char *name, loaded *ld) {
+/* The mesh DIR/NAME.json built and located (benchmesh.h); exits when it does not build. */
+static void load_mesh(const char *dir, const char *name, bench_mesh *b) {
     char path[1024];
-    size_t len;
     snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    *ld = (loaded){bench_slurp(path, &len), NULL, NULL, NULL, NULL};
-    if (!ld->json || tc_request_parse(ld->json, len, TC_REQ_MESH, &ld->req, NULL) != TC_REQ_OK ||
-        tc_mesh_new(&ld->req->desc, &ld->m, NULL) != TC_OK ||
-        tc_recon_new(ld->m, &ld->req->opt, &ld->r, NULL) != TC_OK) {
-        fprintf(stderr, "bench_points: %s does not build\n", path);
-        exit(1);
-    }
-}
-
-static void free_mesh(loaded *ld) {
-    tc_locator_free(ld->L);
-    tc_recon_free(ld->r);
-    tc_mesh_free(ld->m);
-    tc_request_free(ld->req);
-    free(ld->json);
+    if (bench_mesh_load(path, b) != 0) exit(1);
 }
 
 /* --batch: tc_eval_points alone, values only, best of 3 in wall time. */
 static void bench_batch(const char *dir, const char *name, const double *xy, int first) {
-    loaded ld;
+    bench_mesh ld;
     load_mesh(dir, name, &ld);
-    if (tc_locator_new(ld.m, &ld.L) != TC_OK) exit(1);
     double *v = malloc(NPTS * sizeof *v);
     int32_t *t = malloc(NPTS * sizeof *t);
     if (!v || !t) exit(1);
@@ -135,17 +110,19 @@ static void bench_batch(const char *dir, const char *name, const double *xy, int
            (int)tc_mesh_triangle_count(ld.m), b);
     fflush(stdout);
     free(v), free(t);
-    free_mesh(&ld);
+    bench_mesh_free(&ld);
 }
 
-static void bench_mesh(const char *dir, const char *name, const double *xy, int first) {
-    loaded ld;
+static void time_mesh(const char *dir, const char *name, const double *xy, int first) {
+    bench_mesh ld;
     load_mesh(dir, name, &ld);
     tc_recon *r = ld.r;
+    const tc_locator *L = ld.L; /* its grid not built yet: timed below */
+    tc_locator *L2; /* a second locator, for the time one takes to make */
     double t0 = now_s();
-    if (tc_locator_new(ld.m, &ld.L) != TC_OK) exit(1);
-    const tc_locator *L = ld.L;
+    if (tc_locator_new(ld.m, &L2) != TC_OK) exit(1);
     double t_loc = now_s() - t0;
+    tc_locator_free(L2);
     t0 = now_s();
     tc__locator_grid_now(L); /* what the first large batch would do */
     double t_grid = now_s() - t0;
@@ -173,7 +150,7 @@ static void bench_mesh(const char *dir, const char *name, const double *xy, int 
            f_ref_g, f_pts_g, same ? "true" : "false");
     fflush(stdout);
     free(v0), free(g0), free(v1), free(g1), free(t0i), free(t1i);
-    free_mesh(&ld);
+    bench_mesh_free(&ld);
 }
 
 int main(int argc, char **argv) {
@@ -186,7 +163,7 @@ int main(int argc, char **argv) {
     double *raw = bench_points(argv[1], NPTS, "bench_points");
     if (!raw) return 1;
     printf("{\"points\": %d, \"meshes\": {", NPTS);
-    for (int i = 2; i < argc; i++) (batch ? bench_batch : bench_mesh)(argv[1], argv[i], raw, i == 2);
+    for (int i = 2; i < argc; i++) (batch ? bench_batch : time_mesh)(argv[1], argv[i], raw, i == 2);
     printf("\n}}\n");
     free(raw);
     return 0;
