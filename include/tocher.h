@@ -255,10 +255,12 @@ typedef enum {
 } tc_range;
 
 /* Invariant: every default is the enum's 0, so a zero-filled tc_options is
- * tc_options_default's. `threads` is no option of the method: the threads
- * tc_recon_new may use for its per-vertex and per-triangle work (<= 1: the
- * caller's thread only); the ordinates and every finding are the same bit for
- * bit whatever the count. */
+ * tc_options_default's. `threads` and `deadline_ms` are no options of the
+ * method: the threads tc_recon_new may use for its per-vertex and per-triangle
+ * work (<= 1: the caller's thread only; the ordinates and every finding are the
+ * same bit for bit whatever the count), and the tc_now_ms() time after which it
+ * stops between the stages of its build with TC_ETIMEOUT (0: none; a build that
+ * returns TC_OK is the same whatever the deadline). */
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;
@@ -268,6 +270,7 @@ typedef struct {
     tc_average average;
     tc_range range;
     int threads;
+    double deadline_ms;
 } tc_options;
 
 void tc_options_default(tc_options *o);

@@ -1,6 +1,7 @@
 /* option_table.c — the table of the reconstruction options (all of tc_options but the
  * method, whose names are the method table's): request names both ways, which methods
  * read each, and tc_degenerate's names (a mesh option's, kept here with the others). */
+#include <stddef.h>
 #include <string.h>
 
 #include "core/method.h"
@@ -36,10 +37,13 @@ static const tc__option options[] = {
 };
 #define NOPTIONS ((int)(sizeof options / sizeof options[0]))
 
-/* A field added to tc_options without a row here does not compile: every field
- * is int-sized, the method's, the threads (no option of the result) and one per row. */
-_Static_assert(sizeof(tc_options) == (2 + sizeof options / sizeof options[0]) * sizeof(int),
-               "every field of tc_options but the method and threads needs a row in option_table.c");
+/* A field added to tc_options without a row here does not compile: the method
+ * and one int-sized field per row, then the two that are no options of the
+ * result (threads, deadline_ms), nothing between them or after. */
+_Static_assert(offsetof(tc_options, threads) == (1 + sizeof options / sizeof options[0]) * sizeof(int) &&
+                   offsetof(tc_options, deadline_ms) - offsetof(tc_options, threads) <= sizeof(double) &&
+                   sizeof(tc_options) == offsetof(tc_options, deadline_ms) + sizeof(double),
+               "every field of tc_options but the method, threads and deadline_ms needs a row in option_table.c");
 
 const tc__option *tc__option_at(int i) { return i >= 0 && i < NOPTIONS ? &options[i] : NULL; }
 

@@ -73,6 +73,7 @@ static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     size_t stride = 2 * (size_t)m->nc;
     int rc = tc__wedges_build_on(m, r->method->honour, r->opt.threads, &s->ws);
     if (rc != TC_OK) return rc;
+    if (tc__recon_late(r)) return TC_ETIMEOUT;
     s->cz_own = merged_values(m, &s->ws, &rc);
     if (rc != TC_OK) return rc;
     s->inputs = tc__malloc(3 * (size_t)m->nt, stride * sizeof *s->inputs);
@@ -82,6 +83,7 @@ static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     const double *cz = s->cz_own ? s->cz_own : m->cz;
     rc = tc__corner_inputs(m, &s->ws, cz, r->opt.tangents, s->inputs, dg);
     if (rc != TC_OK) return rc;
+    if (tc__recon_late(r)) return TC_ETIMEOUT;
     rc = tc__wedge_planes(m, &s->ws, s->inputs, r->opt.wedges, r->opt.average, s->wedge_planes, dg);
     if (rc != TC_OK) return rc;
     corner_copy cc = {r->planes, s->wedge_planes, s->ws.of_corner, stride};
@@ -106,6 +108,7 @@ int tc__planes_build(struct tc_recon *r, const tc__plane_use *use, tc_diags *dg)
     ct_scratch s;
     memset(&s, 0, sizeof s);
     int rc = ct_planes(r, &s, dg);
+    if (rc == TC_OK && tc__recon_late(r)) rc = TC_ETIMEOUT;
     if (rc == TC_OK && use && use->dirs && r->opt.range != TC_RANGE_FREE) rc = limit_planes(r, &s, use, dg);
     ct_scratch_free(&s);
     return rc;
@@ -115,6 +118,7 @@ int tc__ct_build(struct tc_recon *r, tc_diags *dg) {
     ct_scratch s;
     memset(&s, 0, sizeof s);
     int rc = ct_planes(r, &s, dg);
+    if (rc == TC_OK && tc__recon_late(r)) rc = TC_ETIMEOUT;
     if (rc == TC_OK) {
         tc__ct_input ci = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->planes, s.inputs,
                          r->opt.cross_boundary, r->opt.tangents, r->opt.wedges,

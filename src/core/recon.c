@@ -96,6 +96,7 @@ static int build(struct tc_recon *r, tc_diags *dg) {
     r->coef = tc__malloc((size_t)m->nt * (size_t)m->nc, (size_t)r->ncoef * sizeof *r->coef);
     if (!r->coef) return TC_ENOMEM;
     int rc = mt->build(r, dg);
+    if (rc == TC_OK && tc__recon_late(r)) rc = TC_ETIMEOUT;
     if (rc == TC_OK) rc = check_bounded(r, dg);
     if (rc == TC_OK) warn_c0_ignored(r, dg);
     return rc;

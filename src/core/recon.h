@@ -25,6 +25,12 @@ struct tc_recon {
     uint8_t floor0[TC_MAX_CHANNELS];
 };
 
+/* Past r's build deadline (opt.deadline_ms): a build checks it between its stages and
+ * returns TC_ETIMEOUT, leaving what it made to tc_recon_free. One clock read. */
+static inline int tc__recon_late(const struct tc_recon *r) {
+    return r->opt.deadline_ms > 0 && tc_now_ms() > r->opt.deadline_ms;
+}
+
 /* Value v of channel ch as a point or a pixel of r gets it. */
 static inline double tc__floored(const struct tc_recon *r, int ch, double v) {
     TC_ASSERT(ch >= 0 && ch < r->m->nc);

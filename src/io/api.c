@@ -140,12 +140,14 @@ static int parse_within(const char *body, size_t len, unsigned expect, const tc_
 }
 
 /* The threads of the validation and build: the render's (the daemon's worker
- * count); they change the time only, never a number or a finding. */
+ * count); they change the time only, never a number or a finding. And the
+ * request's deadline, which the builds check between their stages. */
 static void use_threads(tc_request *req, const tc_api_limits *lim) {
     int n = lim && lim->render_threads > 1 ? lim->render_threads : 1;
+    double deadline = lim ? lim->deadline_ms : 0;
     req->desc.threads = n;
-    req->opt.threads = n;
-    for (int i = 0; i < req->nmethods; i++) req->methods[i].threads = n;
+    req->opt.threads = n, req->opt.deadline_ms = deadline;
+    for (int i = 0; i < req->nmethods; i++) req->methods[i].threads = n, req->methods[i].deadline_ms = deadline;
 }
 
 /* Parses a request into j->req under the limits: 200, or the status (res says why). */
@@ -167,8 +169,9 @@ static int job_make(job *j, const tc_api_limits *lim, tc_api_result *res, double
     if (late(lim, res, "checking the mesh")) return res->status;
     rc = tc_recon_new(j->mesh, &j->req->opt, &j->recon, &res->diags);
     lap(res, TC_PHASE_BUILD, t0);
+    /* TC_ETIMEOUT: the build stopped between two stages, past the deadline late() reads */
+    if ((rc == TC_OK || rc == TC_ETIMEOUT) && late(lim, res, "building the reconstruction")) return res->status;
     if (rc != TC_OK) return res->status = status_of_core(rc);
-    if (late(lim, res, "building the reconstruction")) return res->status;
     res->triangles = triangle_count(j->req);
     return res->status = 200;
 }
@@ -624,7 +627,7 @@ static int compare_one(const job *j, const tc_locator *L, const tc_options *opt,
     int rc = tc_recon_new(j->mesh, opt, &r, &dg);
     double build_ms = tc_now_ms() - t_build;
     lap(res, TC_PHASE_BUILD, t0);
-    if (late(lim, res, "building a method")) rc = TC_ETIMEOUT;
+    if ((rc == TC_OK || rc == TC_ETIMEOUT) && late(lim, res, "building a method")) rc = TC_ETIMEOUT;
     else if (rc != TC_OK) {
         tc_strbuf_puts(b, ",\"error\":{\"path\":");
         tc_strbuf_json_string(b, dg.count ? dg.items[0].path : "");

@@ -95,18 +95,18 @@ static void check_reads(const tc_mesh *m, tc_method method) {
     tc_recon_free(base);
 }
 
-/* The triangle methods on a flagged mesh with C-1 jumps and midpoint samples
- * (so every face has its own plane and the averaging and wedge rules matter);
- * the quad methods on a jittered quad grid. */
-TEST(methods_ignore_the_options_they_do_not_read) {
+/* fn on every method: the triangle methods on a flagged mesh with C-1 jumps and
+ * midpoint samples (so every face has its own plane and the averaging and wedge
+ * rules matter); the quad methods on a jittered quad grid. */
+static void each_method(uint64_t seed, void (*fn)(const tc_mesh *m, tc_method method)) {
     trng rng;
-    trng_seed(&rng, tc_test_seed() + 71);
+    trng_seed(&rng, seed);
     tmesh g;
     random_flagged_mesh(&g, &rng, 0, 12);
     tmesh_sample(&g, 2, smooth_f, NULL, 0, 1, 0.3);
     tc_mesh *m = tmesh_build(&g);
     for (int i = 0; m && i < tc_method_count(); i++)
-        if (!tc_method_quads_only((tc_method)i)) check_reads(m, (tc_method)i);
+        if (!tc_method_quads_only((tc_method)i)) fn(m, (tc_method)i);
     tc_mesh_free(m);
     tmesh_free(&g);
     qmesh q;
@@ -118,7 +118,33 @@ TEST(methods_ignore_the_options_they_do_not_read) {
     m = NULL;
     CHECK(tc_mesh_new(&d, &m, NULL) == TC_OK);
     for (int i = 0; m && i < tc_method_count(); i++)
-        if (tc_method_quads_only((tc_method)i)) check_reads(m, (tc_method)i);
+        if (tc_method_quads_only((tc_method)i)) fn(m, (tc_method)i);
     tc_mesh_free(m);
     qmesh_free(&q);
 }
+
+TEST(methods_ignore_the_options_they_do_not_read) { each_method(tc_test_seed() + 71, check_reads); }
+
+/* Method i on m with a deadline: long past, it stops with TC_ETIMEOUT and no
+ * reconstruction (every method checks once its build is done, the tangent-plane
+ * ones between their stages too); far ahead, the same coefficients as without. */
+static void check_deadline(const tc_mesh *m, tc_method method) {
+    tc_options o;
+    tc_options_default(&o);
+    o.method = method;
+    tc_recon *base = NULL;
+    CHECK(tc_recon_new(m, &o, &base, NULL) == TC_OK);
+    tc_recon *r = base; /* not NULL: the failed build must clear it */
+    o.deadline_ms = 1.0; /* tc_now_ms() counts from boot: long past */
+    CHECK_MSG(tc_recon_new(m, &o, &r, NULL) == TC_ETIMEOUT && r == NULL, "%s: past its deadline",
+              tc_method_name(method));
+    o.deadline_ms = tc_now_ms() + 3.6e6;
+    r = NULL;
+    CHECK(tc_recon_new(m, &o, &r, NULL) == TC_OK);
+    CHECK_MSG(r && base && same_coefs(r, base), "%s: a deadline ahead changed the coefficients",
+              tc_method_name(method));
+    tc_recon_free(r);
+    tc_recon_free(base);
+}
+
+TEST(methods_stop_at_the_deadline) { each_method(tc_test_seed() + 73, check_deadline); }
