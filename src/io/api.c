@@ -139,10 +139,10 @@ static int parse_within(const char *body, size_t len, unsigned expect, const tc_
     return over(res, L[k].path, n, L[k].max, what[k]), REQ_OVER_LIMIT;
 }
 
-/* The threads of the validation and build: the render's (the daemon's worker
- * count); they change the time only, never a number or a finding. And the
- * request's deadline, which the builds check between their stages. */
-static void use_threads(tc_request *req, const tc_api_limits *lim) {
+/* What the validation and the builds take from the limits: the threads, the
+ * render's (the daemon's worker count; they change the time only, never a number
+ * or a finding), and the request's deadline, checked between a build's stages. */
+static void pass_limits(tc_request *req, const tc_api_limits *lim) {
     int n = lim && lim->render_threads > 1 ? lim->render_threads : 1;
     double deadline = lim ? lim->deadline_ms : 0;
     req->desc.threads = n;
@@ -156,7 +156,7 @@ static int job_parse(job *j, const char *body, size_t len, unsigned expect, cons
     int rs = parse_within(body, len, expect, lim, &j->req, res);
     lap(res, TC_PHASE_PARSE, t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
-    use_threads(j->req, lim);
+    pass_limits(j->req, lim);
     if (!within_limits(j->req, lim, res) || late(lim, res, "parsing")) return res->status;
     return 200;
 }
@@ -659,7 +659,7 @@ int tc_api_compare(const char *body, size_t len, const tc_api_limits *lim, tc_st
     int rs = parse_within(body, len, TC_REQ_MESH | TC_REQ_REFERENCE, lim, &j.req, res);
     lap(res, TC_PHASE_PARSE, &t0);
     if (rs != TC_REQ_OK) return res->status = status_of_request(rs);
-    use_threads(j.req, lim);
+    pass_limits(j.req, lim);
     tc_locator *L = NULL;
     int rc = within_limits(j.req, lim, res) ? tc_mesh_new(&j.req->desc, &j.mesh, &res->diags) : -1;
     if (rc == TC_OK) rc = tc_locator_new(j.mesh, &L);
