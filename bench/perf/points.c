@@ -74,15 +74,17 @@ static void run_ref(const ctx *c) { tc__eval_points_ref(c->r, c->L, NPTS, c->xy,
 static void run_points(const ctx *c) { tc_eval_points(c->r, c->L, NPTS, c->xy, c->v, c->g, c->tri); }
 static void run_points_mt(const ctx *c) { tc_eval_points_mt(c->r, c->L, NPTS, c->xy, c->v, c->g, c->tri, c->threads); }
 
-static double best(void (*fn)(const ctx *), const ctx *c) {
+static double best_of(int reps, void (*fn)(const ctx *), const ctx *c) {
     double b = INFINITY;
-    for (int i = 0; i < REPS; i++) {
+    for (int i = 0; i < reps; i++) {
         double t0 = now_s();
         fn(c);
         b = fmin(b, now_s() - t0);
     }
     return b;
 }
+
+static double best(void (*fn)(const ctx *), const ctx *c) { return best_of(REPS, fn, c); }
 
 /* The mesh DIR/NAME.json built and located (benchmesh.h); exits when it does not build. */
 static void load_mesh(const char *dir, const char *name, bench_mesh *b) {
@@ -99,13 +101,8 @@ static void bench_batch(const char *dir, const char *name, const double *xy, int
     int32_t *t = malloc(NPTS * sizeof *t);
     if (!v || !t) exit(1);
     ctx c = {ld.r, ld.L, xy, v, NULL, t, 1};
-    double b = INFINITY;
     wall = 1;
-    for (int i = 0; i < 3; i++) { /* 3, not REPS: sidebyside.py calls this once a round */
-        double t0 = now_s();
-        run_points(&c);
-        b = fmin(b, now_s() - t0);
-    }
+    double b = best_of(3, run_points, &c); /* 3, not REPS: sidebyside.py calls this once a round */
     printf("%s\n  \"%s\": {\"triangles\": %d, \"points_s\": %.6g}", first ? "" : ",", name,
            (int)tc_mesh_triangle_count(ld.m), b);
     fflush(stdout);
