@@ -74,6 +74,7 @@ static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     int rc = tc__wedges_build_on(m, r->method->honour, r->opt.threads, &s->ws);
     if (rc != TC_OK) return rc;
     if (tc__recon_late(r)) return TC_ETIMEOUT;
+    s->ws.deadline_ms = r->opt.deadline_ms; /* the corner inputs' fits: the build's longest loop */
     s->cz_own = merged_values(m, &s->ws, &rc);
     if (rc != TC_OK) return rc;
     s->inputs = tc__malloc(3 * (size_t)m->nt, stride * sizeof *s->inputs);

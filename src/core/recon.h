@@ -3,6 +3,7 @@
 #ifndef TC_CORE_RECON_H
 #define TC_CORE_RECON_H
 
+#include "core/deadline.h"
 #include "core/method.h"
 
 /* Invariants once tc_recon_new returns TC_OK: method is the row of opt.method;
@@ -26,10 +27,8 @@ struct tc_recon {
 };
 
 /* Past r's build deadline (opt.deadline_ms): a build checks it between its stages and
- * returns TC_ETIMEOUT, leaving what it made to tc_recon_free. One clock read. */
-static inline int tc__recon_late(const struct tc_recon *r) {
-    return r->opt.deadline_ms > 0 && tc_now_ms() > r->opt.deadline_ms;
-}
+ * returns TC_ETIMEOUT, leaving what it made to tc_recon_free. */
+static inline int tc__recon_late(const struct tc_recon *r) { return tc__past(r->opt.deadline_ms); }
 
 /* Value v of channel ch as a point or a pixel of r gets it. */
 static inline double tc__floored(const struct tc_recon *r, int ch, double v) {

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/deadline.h"
 #include "core/fhypot.h"
 #include "core/geom.h"
 #include "core/mesh.h"
@@ -213,6 +214,12 @@ typedef struct {
     int rc[TC_PARALLEL_MAX];
 } inputs_pass;
 
+/* Wedges fitted between two looks at the deadline: a fit costs ~10 us (least squares over
+ * the wedge's faces), the look one clock read. */
+#define DEADLINE_EVERY 256
+
+/* The input planes of wedges [w0, w1): TC_OK, TC_EINVAL (a corner's source), TC_ENOMEM, or
+ * TC_ETIMEOUT past ws->deadline_ms (the planes then partly written). */
 static int wedge_inputs(const inputs_pass *ip, int32_t w0, int32_t w1, clamp_report *cr, tc_diags *dg) {
     const struct tc_mesh *m = ip->m;
     const tc__wedge_set *ws = ip->ws;
@@ -220,6 +227,10 @@ static int wedge_inputs(const inputs_pass *ip, int32_t w0, int32_t w1, clamp_rep
     int rc = TC_OK;
     tc__fit_space fs = {0};
     for (int32_t w = w0; w < w1 && rc != TC_ENOMEM; w++) {
+        if ((w - w0) % DEADLINE_EVERY == DEADLINE_EVERY - 1 && tc__past(ws->deadline_ms)) {
+            rc = TC_ETIMEOUT;
+            break;
+        }
         const tc__wedge *wd = &ws->w[w];
         double est[2 * TC_MAX_CHANNELS];
         int estimated = 0;
@@ -281,7 +292,7 @@ int tc__corner_inputs(const struct tc_mesh *m, const tc__wedge_set *ws, const do
     memset(&cr, 0, sizeof cr);
     int rc = TC_OK;
     for (int p = 0; p < tc__parallel_parts(ws->threads, m->nv, 4096); p++) {
-        if (ip.rc[p] == TC_ENOMEM) return TC_ENOMEM;
+        if (ip.rc[p] == TC_ENOMEM || ip.rc[p] == TC_ETIMEOUT) return ip.rc[p];
         if (ip.rc[p] != TC_OK) rc = ip.rc[p];
         merge_clamps(&cr, &ip.cr[p]);
     }

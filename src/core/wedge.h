@@ -35,6 +35,8 @@ typedef struct {
     int32_t ncoupled;    /* wedges with a C0 side: work for WedgeNormal steps 3-4 */
     int threads;         /* threads of the steps that read this set (tc_options.threads); no
                           * effect on any result */
+    double deadline_ms;  /* tc_options.deadline_ms, for the long loops of those steps (0: none;
+                          * set by the build after tc__wedges_build_on, which leaves it 0) */
 } tc__wedge_set;
 
 /* Which interior flags a reconstruction honours (tc__wedges_build's

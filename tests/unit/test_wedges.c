@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/mesh.h"
+#include "core/tangent.h"
 #include "core/wedge.h"
 #include "meshgen.h"
 #include "props.h"
@@ -486,4 +488,29 @@ TEST(wedges_literal_project_warning_names_vertex) {
         tc_recon_free(rec);
     }
     tc_mesh_free(m);
+}
+
+/* The corner inputs' fits (the build's longest loop) look at the wedge set's deadline
+ * every few hundred wedges: long past, TC_ETIMEOUT; none, the planes. On 1 and 2 threads. */
+TEST(wedges_corner_inputs_stop_at_the_deadline) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 91);
+    tmesh g;
+    tmesh_grid(&g, 30, 30, 0.2, 0, &rng); /* 961 vertices: more than one look */
+    tmesh_sample(&g, 1, quad_f, NULL, 0, 0, 0);
+    tc_mesh *m = tmesh_build(&g);
+    double *in = m ? malloc(3 * (size_t)m->nt * 2 * sizeof *in) : NULL;
+    for (int threads = 1; in && threads <= 2; threads++) {
+        tc__wedge_set ws;
+        CHECK(tc__wedges_build_on(m, 1, threads, &ws) == TC_OK);
+        CHECK(ws.deadline_ms == 0);
+        CHECK(tc__corner_inputs(m, &ws, m->cz, TC_TANGENTS_ESTIMATE, in, NULL) == TC_OK);
+        ws.deadline_ms = 1.0; /* tc_now_ms() counts from boot: long past */
+        CHECK_MSG(tc__corner_inputs(m, &ws, m->cz, TC_TANGENTS_ESTIMATE, in, NULL) == TC_ETIMEOUT, "%d threads",
+                  threads);
+        tc__wedges_free(&ws);
+    }
+    free(in);
+    tc_mesh_free(m);
+    tmesh_free(&g);
 }
