@@ -614,6 +614,11 @@ __attribute__((target("avx2,fma"))) static void cover_rows_avx2(const band *bd, 
 
 static int force_generic;
 
+/* cover_rows_avx2's instructions: AVX2, and FMA for ct_fast.h's fused multiply-adds. */
+static inline int cpu_avx2_fma(void) {
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}
+
 /* tc__frame's corners and edges, the corners taken from the slot (the locator's copy, in cache)
  * instead of the mesh's vertex array, back in the mesh's order. */
 static void frame_from_slot(const tc_mesh *m, const struct tc__slot *s, tc__eval_frame *f) {
@@ -708,7 +713,7 @@ static void cover(void *ctx, const struct tc__slot *s) {
     if (jm > j1) return;
     tri tr;
     tri_setup(jb, s, box, &tr);
-    if (!force_generic && __builtin_cpu_supports("avx2")) cover_rows_avx2(bd, &tr, j0, j1, i0, i1);
+    if (!force_generic && cpu_avx2_fma()) cover_rows_avx2(bd, &tr, j0, j1, i0, i1);
     else cover_rows_generic(bd, &tr, j0, j1, i0, i1);
 }
 

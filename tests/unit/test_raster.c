@@ -136,7 +136,8 @@ TEST(raster_runs_match_locate_fuzz) {
 
 /* The row loop (ownership lanes, the fast cubic) and tc__ct_span each have a
  * portable and an AVX2 build: the same bits whichever runs (no contraction, no
- * reassociation), and each within the contract. */
+ * reassociation; the fast cubic's explicit fma is the FMA instruction in one and libm's
+ * correctly rounded fma in the other), and each within the contract. */
 TEST(raster_portable_build_same_bits) {
     scene s;
     scene_init(&s, 9, 0.25, 3, tc_test_seed() + 28);
