@@ -3,16 +3,11 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "check.h"
+#include "core/leakcheck.h"
 #include "core/parallel.h"
-
-#if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/lsan_interface.h>
-#define TC_LEAK_CHECK_HERE 1
-#endif
 
 typedef struct { const char *name; tc_test_fn fn; const char *file; int order; } entry;
 
@@ -54,58 +49,6 @@ static int by_file_then_order(const void *a, const void *b) {
     return c ? c : x->order - y->order;
 }
 
-#ifdef TC_LEAK_CHECK_HERE
-/* Copies the file at fd (from its start) to stderr, each line indented. */
-static void copy_indented(int fd) {
-    FILE *f = fdopen(fd, "r");
-    char line[512];
-    if (!f) return;
-    rewind(f);
-    while (fgets(line, sizeof line, f)) fprintf(stderr, "  | %s", line);
-    fclose(f);
-}
-
-/* The leak check, run before exit and without exit handlers. LeakSanitizer's tracer
- * stops and reads every thread; in CI it crashed ("Tracer caught signal 11",
- * google/sanitizers#1353) both at exit and with every thread idle, while the image
- * libraries' pools (OpenEXR's, OpenImageIO's, log4cplus's: as many threads as CPUs)
- * were alive. So the check runs first in a forked child, where the only thread is
- * the one that forked. Its roots are a subset of the whole process's (the other
- * threads' stacks and TLS are not scanned), so no leak there means none here: done.
- * (The child's own thread is not in LeakSanitizer's registry, so its roots are the
- * globals.) A leak there may be held by another thread: its report is shown, and the
- * whole process is checked, which decides; a child that crashed is tried once more
- * first. Returns nonzero when a leak was found. */
-static int leak_check(void) {
-    char path[] = "/tmp/tocher-leaks-XXXXXX";
-    int fd = mkstemp(path);
-    if (fd >= 0) unlink(path);
-    pid_t pid = -1;
-    int status = -1;
-    for (int attempt = 0; attempt < 2; attempt++) { /* a second try only after a crash */
-        fflush(stdout);
-        fflush(stderr);
-        pid = fork();
-        if (pid == 0) {
-            if (fd >= 0) dup2(fd, 2);
-            _exit(__lsan_do_recoverable_leak_check() ? 3 : 0);
-        }
-        if (pid < 0 || waitpid(pid, &status, 0) != pid) break;
-        if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-            if (fd >= 0) close(fd);
-            return 0;
-        }
-        if (WIFEXITED(status) && WEXITSTATUS(status) == 3) break;
-    }
-    fprintf(stderr, "leak check: the single-thread check %s; the whole process is checked\n",
-            pid < 0 ? "could not fork" : WIFEXITED(status) && WEXITSTATUS(status) == 3 ? "found leaks" : "failed");
-    if (fd >= 0) copy_indented(fd);
-    int leaked = __lsan_do_recoverable_leak_check();
-    if (!leaked) fprintf(stderr, "leak check: the whole process has no leak\n");
-    return leaked;
-}
-#endif
-
 int main(int argc, char **argv) {
     const char *filter = argc > 1 ? argv[1] : NULL;
     int passed = 0, failed = 0;
@@ -126,16 +69,11 @@ int main(int argc, char **argv) {
     }
     tc__parallel_stop(); /* no thread of the pool left for LeakSanitizer's scan */
     free(tests);
-#ifdef TC_LEAK_CHECK_HERE
-    if (leak_check()) {
+    if (tc__leak_check()) { /* a sanitizer build's (core/leakcheck.c); 0 in any other */
         fprintf(stderr, "FAIL leak check\n");
         failed++;
     }
-#endif
     printf("%d passed, %d failed\n", passed, failed);
-#ifdef TC_LEAK_CHECK_HERE
-    fflush(stdout); /* _exit: LeakSanitizer's own check at exit is not run again */
+    fflush(stdout); /* _exit: LeakSanitizer's own check at exit, the unsafe one, is not run */
     _exit(failed ? 1 : 0);
-#endif
-    return failed ? 1 : 0;
 }

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "core/leakcheck.h"
 #include "image/format.h"
 #include "io/api.h"
 #include "io/options.h"
@@ -383,5 +384,5 @@ int main(int argc, char **argv) {
         print_usage(stderr);
         return EXIT_USAGE;
     }
-    return run(&a);
+    return tc__leak_checked_exit(run(&a)); /* in a sanitizer build, core/leakcheck.c's check */
 }

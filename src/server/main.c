@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <time.h>
 
+#include "core/leakcheck.h"
+#include "core/parallel.h"
 #include "io/api.h"
 #include "server/config.h"
 #include "server/log.h"
@@ -92,5 +94,6 @@ int main(int argc, char **argv) {
     }
     tc_server_stop(srv);
     tc_log_notice("stopped");
-    return 0;
+    tc__parallel_stop(); /* the core's pool ended: no thread of it left for a leak check's scan */
+    return tc__leak_checked_exit(0);
 }
