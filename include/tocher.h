@@ -259,8 +259,9 @@ typedef enum {
  * method: the threads tc_recon_new may use for its per-vertex and per-triangle
  * work (<= 1: the caller's thread only; the ordinates and every finding are the
  * same bit for bit whatever the count), and the tc_now_ms() time after which it
- * stops between the stages of its build with TC_ETIMEOUT (0: none; a build that
- * returns TC_OK is the same whatever the deadline). */
+ * stops with TC_ETIMEOUT at its next check (between the stages of its build, and
+ * every few hundred wedges in the longest one; 0: none; a build that returns TC_OK
+ * is the same whatever the deadline). */
 typedef struct {
     tc_method method;
     tc_cross cross_boundary;

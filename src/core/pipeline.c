@@ -89,7 +89,7 @@ static int ct_planes(struct tc_recon *r, ct_scratch *s, tc_diags *dg) {
     if (rc != TC_OK) return rc;
     corner_copy cc = {r->planes, s->wedge_planes, s->ws.of_corner, stride};
     tc__parallel_for(r->opt.threads, 3 * m->nt, 4096, copy_planes, &cc);
-    return TC_OK;
+    return tc__recon_late(r) ? TC_ETIMEOUT : TC_OK; /* before the callers' next stage */
 }
 
 /* Limits the planes r->planes (range.h) for a method that uses them as `use` says. */
@@ -109,7 +109,6 @@ int tc__planes_build(struct tc_recon *r, const tc__plane_use *use, tc_diags *dg)
     ct_scratch s;
     memset(&s, 0, sizeof s);
     int rc = ct_planes(r, &s, dg);
-    if (rc == TC_OK && tc__recon_late(r)) rc = TC_ETIMEOUT;
     if (rc == TC_OK && use && use->dirs && r->opt.range != TC_RANGE_FREE) rc = limit_planes(r, &s, use, dg);
     ct_scratch_free(&s);
     return rc;
@@ -119,7 +118,6 @@ int tc__ct_build(struct tc_recon *r, tc_diags *dg) {
     ct_scratch s;
     memset(&s, 0, sizeof s);
     int rc = ct_planes(r, &s, dg);
-    if (rc == TC_OK && tc__recon_late(r)) rc = TC_ETIMEOUT;
     if (rc == TC_OK) {
         tc__ct_input ci = {r->m, &s.ws, s.cz_own ? s.cz_own : r->m->cz, r->planes, s.inputs,
                          r->opt.cross_boundary, r->opt.tangents, r->opt.wedges,
