@@ -308,17 +308,21 @@ TEST(raster_same_bits_for_any_thread_count) {
     if (!s.r) return;
     tc_viewport vp = {-0.05, 0, 1, 1.02, 211, 197};
     size_t n = (size_t)vp.width * (size_t)vp.height * 3;
+    size_t np = (size_t)vp.width * (size_t)vp.height;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    int32_t *oa = malloc(np * sizeof *oa), *ob = malloc(np * sizeof *ob);
     tc_render_options o = {NULL, 1, 0, 0, 0};
-    CHECK(tc_render(s.r, s.L, &vp, &o, a, NULL) == TC_OK);
-    int threads[] = {2, 3, 4, 8, 16};
-    for (int k = 0; k < 5; k++) {
+    CHECK(tc_render(s.r, s.L, &vp, &o, a, oa) == TC_OK);
+    /* 16 threads on 197 rows: bands of 8 rows from the start; 2 and 3: of 32, shrinking at the end */
+    int threads[] = {2, 3, 4, 8, 16, 40};
+    for (int k = 0; k < 6; k++) {
         o.threads = threads[k];
-        memset(b, 0xff, n * sizeof *b);
-        CHECK(tc_render(s.r, s.L, &vp, &o, b, NULL) == TC_OK);
+        memset(b, 0xff, n * sizeof *b), memset(ob, 0x7f, np * sizeof *ob);
+        CHECK(tc_render(s.r, s.L, &vp, &o, b, ob) == TC_OK);
         CHECK_MSG(memcmp(a, b, n * sizeof *a) == 0, "%d threads differ from 1", threads[k]);
+        CHECK_MSG(memcmp(oa, ob, np * sizeof *oa) == 0, "%d threads: owners differ from 1", threads[k]);
     }
-    free(a), free(b);
+    free(a), free(b), free(oa), free(ob);
     scene_free(&s);
 }
 
