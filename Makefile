@@ -129,6 +129,9 @@ $(BUILD)/bench_numfmt: $(call obj,bench/perf/numfmt.c bench/perf/numfmt_cascade.
 # libcjson.so.1, nothing else.
 $(BUILD)/bench_scaling: $(call obj,bench/perf/scaling.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(CJSON_LIBS) -lm -lpthread -ldl -o $@
+# The core's clock with 1..N threads busy (bench/perf/clockprobe.c): carried with bench_scaling.
+$(BUILD)/bench_clockprobe: $(call obj,bench/perf/clockprobe.c)
+	$(CC) $(ALL_LDFLAGS) $^ -lm -lpthread -o $@
 # A tile's pixels against /v1/evaluate's values and owners (bench/perf/tile_error.c).
 $(BUILD)/bench_tile_error: $(call obj,bench/perf/tile_error.c) $(BUILD)/libtocher.a
 	$(CC) $(ALL_LDFLAGS) $^ $(CJSON_LIBS) -lm -lpthread -ldl -o $@

@@ -4,7 +4,7 @@
 # and scipy on the same tile's pixel centres, one call (three rounds of each). Not part of `make bench` (CI never has
 # such a machine); its output is committed under bench/perf/device/ and read by report.py.
 #
-#     bench/perf/device.sh DIR OUT     DIR holds bench_scaling and libcjson.so.1 built here, and
+#     bench/perf/device.sh DIR OUT     DIR holds bench_scaling, libcjson.so.1 (and bench_clockprobe) built here, and
 #                                      meshes/ (bench/perf/meshes.py's grid16, grid64, grid512,
 #                                      del1e4 .json and grid64.npz), carried so nothing is made there
 set -eu
@@ -15,6 +15,9 @@ mkdir -p "$OUT"
 export LD_LIBRARY_PATH="$D${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 (lscpu; nproc) > "$OUT/lscpu.txt" 2>&1 || true
 T="1,2,4,8,12,16"
+# the cores' clock with 1..16 of them busy (bench_clockprobe), if carried: a speed-up that falls
+# with the clock is the machine's, not the code's
+[ -x "$D/bench_clockprobe" ] && "$D/bench_clockprobe" "$T" > "$OUT/clockprobe.txt"
 for m in grid16 del1e4; do "$D/bench_scaling" "$M/$m.json" 1024 1; done > "$OUT/tile1024_others.json"
 # Rounds in turns, each a fresh process: the lent machine has slow spells of seconds (the same
 # binary measured 23 and 43 Mpixel/s minutes apart), which best-of runs inside one process do
