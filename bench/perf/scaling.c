@@ -2,8 +2,11 @@
  * square tile with 1..N threads, best of a few, and prints one JSON object on stdout; with
  * --build, the validation (tc_mesh_new) and build (tc_recon_new) of the mesh instead.
  *
- *     build/bench_scaling MESH.json [SIZE [THREADS,...]]     (default 1024, "1,2")
+ *     build/bench_scaling [--rows N] MESH.json [SIZE [THREADS,...]]     (default 1024, "1,2")
  *     build/bench_scaling --build MESH.json [THREADS,...]
+ *
+ * --rows N: the tile rendered in calls of N rows (tc_render_options.row0/rows), as the daemon
+ * renders a big tile a band of ~8 MiB at a time (96 rows of a 4096-wide one-channel tile).
  *
  * The viewport is the unit square the bench meshes (bench/perf/meshes.py) cover. Each thread
  * count renders the same tile; the checksum of every run must agree (bit-identical output for
@@ -33,15 +36,25 @@ static double cpu_s(void) {
 /* Best wall time of tc_render over at least 3 runs and 0.5 s; *cpu the CPU time (all threads)
  * of the run with the least of it (pixels per CPU second = throughput per thread, the figure a
  * busy machine disturbs least); *sum gets the pixels' sum. */
+static int32_t call_rows; /* --rows: rows per tc_render call; 0 = the whole tile in one */
+
+static int render_tile(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, int threads, float *px) {
+    int32_t step = call_rows > 0 ? call_rows : vp->height;
+    for (int32_t j = 0; j < vp->height; j += step) {
+        tc_render_options o = {NULL, threads, 0, j, vp->height - j < step ? vp->height - j : step};
+        if (tc_render(r, L, vp, &o, px + (size_t)j * (size_t)vp->width * (size_t)r->m->nc, NULL) != TC_OK) return -1;
+    }
+    return 0;
+}
+
 static double render_best(const tc_recon *r, const tc_locator *L, int32_t size, int threads, float *px,
                           double *sum, double *cpu) {
     tc_viewport vp = {0, 0, 1, 1, size, size};
-    tc_render_options o = {NULL, threads, 0, 0, 0};
     double best = INFINITY, spent = 0;
     *cpu = INFINITY;
     for (int i = 0; i < 3 || spent < 0.5; i++) {
         double t0 = now_s(), c0 = cpu_s();
-        if (tc_render(r, L, &vp, &o, px, NULL) != TC_OK) return NAN;
+        if (render_tile(r, L, &vp, threads, px)) return NAN;
         double dt = now_s() - t0;
         *cpu = fmin(*cpu, cpu_s() - c0);
         best = fmin(best, dt), spent += dt;
@@ -108,8 +121,12 @@ static int main_build(const char *path, const char *list) {
 
 int main(int argc, char **argv) {
     if (argc > 2 && !strcmp(argv[1], "--build")) return main_build(argv[2], argc > 3 ? argv[3] : "1,2");
+    if (argc > 3 && !strcmp(argv[1], "--rows")) {
+        call_rows = atoi(argv[2]);
+        argc -= 2, argv += 2;
+    }
     if (argc < 2) {
-        fprintf(stderr, "usage: %s MESH.json [SIZE [THREADS,...]] | --build MESH.json [THREADS,...]\n", argv[0]);
+        fprintf(stderr, "usage: %s [--rows N] MESH.json [SIZE [THREADS,...]] | --build MESH.json [THREADS,...]\n", argv[0]);
         return 2;
     }
     int32_t size = argc > 2 ? atoi(argv[2]) : 1024;
@@ -123,8 +140,8 @@ int main(int argc, char **argv) {
     double built = now_s() - t0;
     float *px = malloc((size_t)size * (size_t)size * (size_t)r->m->nc * sizeof *px);
     if (!px) return 1;
-    printf("{\"mesh\": \"%s\", \"triangles\": %d, \"size\": %d, \"build_s\": %.6f, \"runs\": [", argv[1],
-           (int)tc_mesh_triangle_count(m), (int)size, built);
+    printf("{\"mesh\": \"%s\", \"triangles\": %d, \"size\": %d, \"rows_per_call\": %d, \"build_s\": %.6f, \"runs\": [",
+           argv[1], (int)tc_mesh_triangle_count(m), (int)size, call_rows > 0 ? call_rows : (int)size, built);
     double first = NAN, sum0 = NAN;
     int bad = 0;
     char *copy = strdup(list), *save = NULL;

@@ -976,3 +976,37 @@ TEST(api_render_memory_budget) {
     tc_api_result_free(&res);
     tc_strbuf_free(&out);
 }
+
+/* A render on many threads takes bands of ROWS_PER_THREAD rows per thread where 8 MiB
+ * holds fewer (api.c band_rows): a 4096 x 300 grey raw render holds a band of 96 rows on one
+ * thread (a peak of ~13 MiB) and of 256 on sixteen (~26 MiB), so a 16 MiB budget takes the
+ * first and refuses the second as never fitting; without a budget both give the same bytes. */
+TEST(api_render_band_rows_follow_threads) {
+    const char *body = "{\"vertices\": [[0,0],[1,0],[0,1],[1,1]], \"triangles\": [[0,1,2],[1,3,2]], \"values\": [1,2,3,5],"
+                       " \"format\": \"raw\", \"viewport\": {\"x0\": 0, \"y0\": 0, \"x1\": 1, \"y1\": 1,"
+                       " \"width\": 4096, \"height\": 300}}";
+    tc_budget b;
+    tc_budget_init(&b, 16 << 20);
+    tc_strbuf out[2];
+    tc_api_result res;
+    for (int k = 0; k < 2; k++) {
+        tc_api_limits lim = {.render_threads = k ? 16 : 1, .memory = &b};
+        tc_strbuf_init(&out[k]);
+        tc_api_result_init(&res);
+        int st = tc_api_render_as(body, strlen(body), -1, &lim, &out[k], &res);
+        CHECK_MSG(st == (k ? 413 : 200), "%d threads: status %d", lim.render_threads, st);
+        if (k) CHECK(res.diags.count && !strcmp(res.diags.items[0].path, "viewport") && tc_budget_used(&b) == 0);
+        tc_api_result_release(&res);
+        tc_api_result_free(&res);
+        tc_strbuf_free(&out[k]);
+    }
+    for (int k = 0; k < 2; k++) {
+        tc_api_limits lim = {.render_threads = k ? 16 : 1};
+        tc_strbuf_init(&out[k]);
+        tc_api_result_init(&res);
+        CHECK(tc_api_render_as(body, strlen(body), -1, &lim, &out[k], &res) == 200 && out[k].len == 4096 * 300 * 4);
+        tc_api_result_free(&res);
+    }
+    CHECK_MSG(out[0].len == out[1].len && !memcmp(out[0].buf, out[1].buf, out[0].len), "16 threads render other bytes");
+    tc_strbuf_free(&out[0]), tc_strbuf_free(&out[1]);
+}
