@@ -405,7 +405,8 @@ typedef struct {
 } tc_render_options;
 
 /* tc_render's unit of work for its threads, in rows: a caller that renders a tile in bands
- * (row0/rows) wastes least with bands of a multiple of it. */
+ * (row0/rows) wastes least with bands of a multiple of it. On several threads the last units
+ * of a call shrink (to 8 rows) so that the threads end together. */
 #define TC_RENDER_BAND_ROWS 32
 
 /* Milliseconds of CLOCK_MONOTONIC: the clock of deadline_ms (and of every timing). */
