@@ -141,11 +141,14 @@ static int parse_within(const char *body, size_t len, unsigned expect, const tc_
     return over(res, L[k].path, n, L[k].max, what[k]), REQ_OVER_LIMIT;
 }
 
+/* The threads one request may use (the daemon's --render-threads): at least 1. */
+static int threads_of(const tc_api_limits *lim) { return lim && lim->render_threads > 1 ? lim->render_threads : 1; }
+
 /* What the validation and the builds take from the limits: the threads, the
  * render's (the daemon's worker count; they change the time only, never a number
  * or a finding), and the request's deadline, checked between a build's stages. */
 static void pass_limits(tc_request *req, const tc_api_limits *lim) {
-    int n = lim && lim->render_threads > 1 ? lim->render_threads : 1;
+    int n = threads_of(lim);
     double deadline = lim ? lim->deadline_ms : 0;
     req->desc.threads = n;
     req->opt.threads = n, req->opt.deadline_ms = deadline;
@@ -398,7 +401,7 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, const tc_l
                      int32_t rows, band *b) {
     const tc_request *req = j->req;
     const tc_viewport *vp = &req->viewport;
-    tc_render_options ropt = {req->has_background ? req->background : NULL, lim ? lim->render_threads : 1,
+    tc_render_options ropt = {req->has_background ? req->background : NULL, threads_of(lim),
                               lim ? lim->deadline_ms : 0, row0, rows};
     int rc = tc_render(j->recon, L, vp, &ropt, b->values, b->owner);
     if (rc != TC_OK) return rc;
@@ -410,13 +413,9 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, const tc_l
     return TC_OK;
 }
 
-/* A linear format's samples hold values up to its max_sample (float: FLT_MAX,
- * which the render never passes; half: 65504). Beyond, a value is written as
- * that bound; returns how many (the caller's warning says so: the encoders
- * would otherwise write infinities that /v1/evaluate does not give). */
 /* Whether some |v[i]| >= b, four at a time without a branch (SSE2 on x86-64): the common
  * answer, no, costs ~1 ms for a 4096² tile, where the loop below with its branch per value
- * took ~15 ms. */
+ * took ~15 ms (this 2-core VM). */
 static int any_at_least(const float *v, size_t n, float b) {
     typedef float v4f __attribute__((vector_size(16)));
     typedef int32_t v4i __attribute__((vector_size(16)));
@@ -434,6 +433,10 @@ static int any_at_least(const float *v, size_t n, float b) {
     return any;
 }
 
+/* A linear format's samples hold values up to its max_sample (float: FLT_MAX,
+ * which the render never passes; half: 65504). Beyond, a value is written as
+ * that bound; returns how many (the caller's warning says so: the encoders
+ * would otherwise write infinities that /v1/evaluate does not give). */
 static int64_t saturate(int fmt, float *v, size_t n) {
     double bound = tc_img_traits_of((tc_img_format)fmt)->max_sample;
     if (!(bound > 0)) return 0;
@@ -495,8 +498,7 @@ static int render_encode(render_state *st, tc_strbuf *out, tc_api_result *res, d
     tc_img header = {req->viewport.width, req->viewport.height, nc, NULL, NULL, req->exposure, req->linear};
     static const float marks_alpha = 1;
     if (tc_img_has_alpha((tc_img_format)st->fmt, nc)) header.alpha = &marks_alpha;
-    int rc = band_alloc(&st->b, &req->viewport, nc, st->lim ? st->lim->render_threads : 1,
-                        tc_img_has_alpha((tc_img_format)st->fmt, nc));
+    int rc = band_alloc(&st->b, &req->viewport, nc, threads_of(st->lim), header.alpha != NULL);
     if (rc == TC_OK && !st->j->locator) rc = tc_locator_new(st->j->mesh, &st->L); /* a stored mesh has its own */
     if (rc != TC_OK) return rc;
     if (tc_img_writer_open(&header, (tc_img_format)st->fmt, &st->w, st->err, sizeof st->err) != 0) return TC_EINVAL;
@@ -513,7 +515,7 @@ static int render_encode(render_state *st, tc_strbuf *out, tc_api_result *res, d
  * 503 (retry) if requests in flight hold too much of it now. */
 static int reserve(const job *j, const tc_api_limits *lim, int fmt, int64_t *peak, tc_api_result *res) {
     tc_budget *b = lim ? lim->memory : NULL;
-    *peak = render_peak(&j->req->viewport, tc_mesh_channel_count(j->mesh), fmt, lim ? lim->render_threads : 1);
+    *peak = render_peak(&j->req->viewport, tc_mesh_channel_count(j->mesh), fmt, threads_of(lim));
     if (!b || tc_budget_take(b, *peak)) return 200;
     int64_t mib = 1 << 20;
     if (*peak > b->limit) {
