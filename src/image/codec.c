@@ -119,7 +119,7 @@ int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha
     if (w->raw) {
         unsigned char *at = w->raw + (size_t)w->rows_done * (size_t)h->width * (size_t)h->channels * 4;
 #if RAW_IS_HOST
-        memcpy(at, pixels, n * 4); /* the bytes put_le32 writes, at memory speed */
+        if ((const void *)pixels != (void *)at) memcpy(at, pixels, n * 4); /* put_le32's bytes; none from _place */
 #else
         for (size_t i = 0; i < n; i++) put_le32(at + 4 * i, pixels[i]);
 #endif
@@ -130,6 +130,12 @@ int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha
     }
     w->rows_done += rows;
     return 0;
+}
+
+float *tc_img_writer_place(tc_img_writer *w, int rows) {
+    const tc_img *h = &w->header;
+    if (!RAW_IS_HOST || !w->raw || h->alpha || rows < 1 || rows > h->height - w->rows_done) return NULL;
+    return (float *)(void *)(w->raw + (size_t)w->rows_done * (size_t)h->width * (size_t)h->channels * 4);
 }
 
 int tc_img_writer_finish(tc_img_writer *w, unsigned char **out, size_t *len, size_t *cap, char *err, size_t errlen) {

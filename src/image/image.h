@@ -40,6 +40,11 @@ void tc_img_free(unsigned char *p);
  *   tc_img_writer_finish(w, &bytes, &len, &cap, ...) after every row: the file,
  *                                              malloc()ed, cap > len bytes allocated
  *   tc_img_writer_free(w)                      always, finished or not
+ *   tc_img_writer_place(w, n)                  where the next n rows are stored as they
+ *                                              are, for the caller to render into (then
+ *                                              _rows with that pointer copies nothing);
+ *                                              NULL where the writer converts them: every
+ *                                              format but raw, and raw on a big-endian host
  * Each returns 0, or -1 with a message in err; after a failure only _free is
  * meaningful. The bytes equal tc_img_encode's whatever the bands. */
 typedef struct tc_img_writer tc_img_writer;
@@ -48,6 +53,7 @@ int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha
                        size_t errlen);
 int tc_img_writer_finish(tc_img_writer *w, unsigned char **out, size_t *len, size_t *cap, char *err, size_t errlen);
 void tc_img_writer_free(tc_img_writer *w);
+float *tc_img_writer_place(tc_img_writer *w, int rows);
 
 /* Loads the OpenImageIO part now (it is loaded on the first encode otherwise).
  * Returns 0, or -1 with the reason in err. */

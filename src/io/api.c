@@ -380,13 +380,14 @@ static int64_t render_peak(const tc_viewport *vp, int nc, int fmt, int threads) 
     return stored + stored / 64 + (64 << 10) + (int64_t)vp->width * band_rows(vp, nc, threads) * band_pixel_bytes(nc);
 }
 
-static int band_alloc(band *b, const tc_viewport *vp, int nc, int threads, int alpha) {
+/* values: the band's own, unless the writer takes the samples in place (raw). */
+static int band_alloc(band *b, const tc_viewport *vp, int nc, int threads, int values, int alpha) {
     b->rows = band_rows(vp, nc, threads);
     size_t np = (size_t)vp->width * (size_t)b->rows;
-    b->values = tc__malloc(np * (size_t)nc, sizeof *b->values);
+    b->values = values ? tc__malloc(np * (size_t)nc, sizeof *b->values) : NULL;
     b->alpha = alpha ? tc__malloc(np, sizeof *b->alpha) : NULL;
     b->owner = alpha ? tc__malloc(np, sizeof *b->owner) : NULL;
-    return b->values && (!alpha || (b->alpha && b->owner)) ? TC_OK : TC_ENOMEM;
+    return (!values || b->values) && (!alpha || (b->alpha && b->owner)) ? TC_OK : TC_ENOMEM;
 }
 
 /* The request's "format", else the caller's (an Accept header, a file's extension), else the default. */
@@ -395,21 +396,22 @@ static int format_of(const tc_request *req, int fallback) {
     return f >= 0 ? f : TC_IMG_DEFAULT;
 }
 
-/* Rasterizes rows [row0, row0 + rows) of the viewport into b (overlay
- * included): each pixel as the whole tile's. Returns a core status. */
+/* Rasterizes rows [row0, row0 + rows) of the viewport into values (b's, or the
+ * answer's own bytes) and b's owners and alpha (overlay included): each pixel as
+ * the whole tile's. Returns a core status. */
 static int rasterize(const job *j, const tc_api_limits *lim, int fmt, const tc_locator *L, int32_t row0,
-                     int32_t rows, band *b) {
+                     int32_t rows, band *b, float *values) {
     const tc_request *req = j->req;
     const tc_viewport *vp = &req->viewport;
     tc_render_options ropt = {req->has_background ? req->background : NULL, threads_of(lim),
                               lim ? lim->deadline_ms : 0, row0, rows};
-    int rc = tc_render(j->recon, L, vp, &ropt, b->values, b->owner);
+    int rc = tc_render(j->recon, L, vp, &ropt, values, b->owner);
     if (rc != TC_OK) return rc;
     if (b->alpha)
         for (size_t p = 0; p < (size_t)vp->width * (size_t)rows; p++) b->alpha[p] = b->owner[p] >= 0 ? 1.0f : 0.0f;
     if (req->overlay) /* a display-referred format shows v * 2^exposure: scale the overlay so it shows as drawn */
         tc_render_overlay_rows(j->recon, vp, tc_img_traits_of((tc_img_format)fmt)->display ? pow(2, -req->exposure) : 1,
-                               row0, rows, b->values);
+                               row0, rows, values);
     return TC_OK;
 }
 
@@ -479,11 +481,12 @@ static int render_bands(render_state *st, tc_api_result *res, double *t0) {
     int alpha = tc_img_has_alpha((tc_img_format)st->fmt, nc);
     for (int32_t row0 = 0; row0 < vp->height; row0 += st->b.rows) {
         int32_t rows = vp->height - row0 < st->b.rows ? vp->height - row0 : st->b.rows;
-        int rc = rasterize(st->j, st->lim, st->fmt, st->L ? st->L : st->j->locator, row0, rows, &st->b);
+        float *values = st->b.values ? st->b.values : tc_img_writer_place(st->w, rows);
+        int rc = rasterize(st->j, st->lim, st->fmt, st->L ? st->L : st->j->locator, row0, rows, &st->b, values);
         lap(res, TC_PHASE_EVALUATE, t0);
         if (rc != TC_OK) return rc;
-        st->saturated += saturate(st->fmt, st->b.values, (size_t)vp->width * (size_t)rows * (size_t)nc);
-        rc = tc_img_writer_rows(st->w, st->b.values, alpha ? st->b.alpha : NULL, rows, st->err, sizeof st->err);
+        st->saturated += saturate(st->fmt, values, (size_t)vp->width * (size_t)rows * (size_t)nc);
+        rc = tc_img_writer_rows(st->w, values, alpha ? st->b.alpha : NULL, rows, st->err, sizeof st->err);
         lap(res, TC_PHASE_ENCODE, t0);
         if (rc != 0) return TC_EINVAL;
     }
@@ -498,10 +501,11 @@ static int render_encode(render_state *st, tc_strbuf *out, tc_api_result *res, d
     tc_img header = {req->viewport.width, req->viewport.height, nc, NULL, NULL, req->exposure, req->linear};
     static const float marks_alpha = 1;
     if (tc_img_has_alpha((tc_img_format)st->fmt, nc)) header.alpha = &marks_alpha;
-    int rc = band_alloc(&st->b, &req->viewport, nc, threads_of(st->lim), header.alpha != NULL);
+    if (tc_img_writer_open(&header, (tc_img_format)st->fmt, &st->w, st->err, sizeof st->err) != 0) return TC_EINVAL;
+    int in_place = tc_img_writer_place(st->w, 1) != NULL; /* raw: rendered straight into the answer */
+    int rc = band_alloc(&st->b, &req->viewport, nc, threads_of(st->lim), !in_place, header.alpha != NULL);
     if (rc == TC_OK && !st->j->locator) rc = tc_locator_new(st->j->mesh, &st->L); /* a stored mesh has its own */
     if (rc != TC_OK) return rc;
-    if (tc_img_writer_open(&header, (tc_img_format)st->fmt, &st->w, st->err, sizeof st->err) != 0) return TC_EINVAL;
     if ((rc = render_bands(st, res, t0)) != TC_OK) return rc;
     unsigned char *bytes;
     size_t len, cap;

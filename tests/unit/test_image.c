@@ -493,6 +493,36 @@ TEST(image_writer_bands_give_the_same_bytes) {
     tc_img_writer_free(NULL);
 }
 
+/* A raw image's rows written in place (tc_img_writer_place, two rows at a time; what the
+ * daemon renders into) give tc_img_encode's bytes; no place past the last row, for no rows,
+ * or for a format the writer converts (PNG). */
+TEST(image_writer_place_raw) {
+    test_img t;
+    make_img(&t, 3, 0);
+    unsigned char *want = NULL, *got = NULL;
+    size_t want_len = 0, len = 0, cap = 0;
+    if (encode(&t.im, TC_IMG_RAW, &want, &want_len) != 0) return;
+    char err[256] = "";
+    tc_img_writer *w = NULL;
+    int rc = tc_img_writer_open(&t.im, TC_IMG_RAW, &w, err, sizeof err), placed = 0;
+    CHECK(rc == 0 && tc_img_writer_place(w, 0) == NULL && tc_img_writer_place(w, H + 1) == NULL);
+    for (int y = 0; rc == 0 && y < H; y += 2) {
+        int rows = H - y < 2 ? H - y : 2;
+        float *at = tc_img_writer_place(w, rows);
+        if (!at) break;
+        memcpy(at, t.px + (size_t)y * W * 3, (size_t)rows * W * 3 * sizeof *at);
+        rc = tc_img_writer_rows(w, at, NULL, rows, err, sizeof err), placed += rows;
+    }
+    CHECK_MSG(placed == H && tc_img_writer_place(w, 1) == NULL, "%d rows placed", placed);
+    if (rc == 0 && placed == H) rc = tc_img_writer_finish(w, &got, &len, &cap, err, sizeof err);
+    CHECK_MSG(rc == 0 && len == want_len && memcmp(got, want, len) == 0, "raw in place: %s", err);
+    tc_img_free(got), tc_img_free(want);
+    tc_img_writer_free(w);
+    w = NULL;
+    if (tc_img_writer_open(&t.im, TC_IMG_PNG, &w, err, sizeof err) == 0) CHECK(tc_img_writer_place(w, 1) == NULL);
+    tc_img_writer_free(w);
+}
+
 /* ---- the format table as a whole ----------------------------------------------------- */
 
 /* What adding a row must keep true: the name and each extension lead back to
