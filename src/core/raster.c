@@ -772,9 +772,9 @@ static void settle_band(const band *bd) {
     }
 }
 
-/* Band b, its owners in the caller's array or in scratch (BAND_ROWS rows of
- * the worker's: a tile's owners need never exist at once, nor touch memory
- * outside the cache, when the caller does not want them). */
+/* The band of rows [j0, j1) (take_band's), its owners in the caller's array or in scratch
+ * (BAND_ROWS rows of the worker's: a tile's owners need never exist at once, nor touch
+ * memory outside the cache, when the caller does not want them). */
 static void render_band(job *jb, int32_t j0, int32_t j1, int32_t *scratch) {
     const tc_viewport *vp = jb->vp;
     band bd = {jb, j0, j1, scratch, {NULL}, 0, 0};
@@ -851,8 +851,9 @@ static void worker_part(void *ctx, int32_t lo, int32_t hi, int part) {
  * and more than a small tile's. The bands go to whichever worker asks next, so a part that
  * starts late (or after another on the same thread) only finds fewer bands left. */
 static void run_threads(job *jb, int n) {
+    int most = (jb->rows + BAND_MIN_ROWS - 1) / BAND_MIN_ROWS; /* bands of the least size */
     if (n > TC_PARALLEL_MAX) n = TC_PARALLEL_MAX;
-    if (n > (jb->rows + BAND_MIN_ROWS - 1) / BAND_MIN_ROWS) n = (jb->rows + BAND_MIN_ROWS - 1) / BAND_MIN_ROWS;
+    if (n > most) n = most;
     jb->threads = n > 1 ? n : 1;
     if (n <= 1) worker(jb);
     else tc__parallel_for_threads(n, n, 1, worker_part, jb);
