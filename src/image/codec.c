@@ -109,6 +109,12 @@ int tc_img_writer_open(const tc_img *header, tc_img_format f, tc_img_writer **wp
     return 0;
 }
 
+/* Where the raw answer's next row goes. */
+static unsigned char *raw_next(const tc_img_writer *w) {
+    const tc_img *h = &w->header;
+    return w->raw + (size_t)w->rows_done * (size_t)h->width * (size_t)h->channels * 4;
+}
+
 int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha, int rows, char *err,
                        size_t errlen) {
     const tc_img *h = &w->header;
@@ -117,7 +123,7 @@ int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha
                        w->rows_done + rows, h->height, h->alpha ? "expected" : "not expected"), -1;
     size_t n = (size_t)rows * (size_t)h->width * (size_t)h->channels;
     if (w->raw) {
-        unsigned char *at = w->raw + (size_t)w->rows_done * (size_t)h->width * (size_t)h->channels * 4;
+        unsigned char *at = raw_next(w);
 #if RAW_IS_HOST
         if ((const void *)pixels != (void *)at) memcpy(at, pixels, n * 4); /* put_le32's bytes; none from _place */
 #else
@@ -135,7 +141,7 @@ int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha
 float *tc_img_writer_place(tc_img_writer *w, int rows) {
     const tc_img *h = &w->header;
     if (!RAW_IS_HOST || !w->raw || h->alpha || rows < 1 || rows > h->height - w->rows_done) return NULL;
-    return (float *)(void *)(w->raw + (size_t)w->rows_done * (size_t)h->width * (size_t)h->channels * 4);
+    return (float *)(void *)raw_next(w);
 }
 
 int tc_img_writer_finish(tc_img_writer *w, unsigned char **out, size_t *len, size_t *cap, char *err, size_t errlen) {
