@@ -362,10 +362,12 @@ static void band_free(band *b) { tc__free(b->values), tc__free(b->alpha), tc__fr
  * encoder's converted copy of the samples (plus alpha). */
 static int64_t band_pixel_bytes(int nc) { return (int64_t)(2 * nc + 3) * 4; }
 
+/* threads: threads_of(lim), at least 1. */
 static int32_t band_rows(const tc_viewport *vp, int nc, int threads) {
     int64_t row_bytes = (int64_t)vp->width * band_pixel_bytes(nc), rows = BAND_BYTES / row_bytes;
-    int64_t wide = (int64_t)(threads > 1 ? threads : 1) * ROWS_PER_THREAD, most = BAND_MAX_BYTES / row_bytes;
-    if (rows < wide) rows = wide < most ? wide : most > rows ? most : rows;
+    int64_t wide = (int64_t)threads * ROWS_PER_THREAD, most = BAND_MAX_BYTES / row_bytes;
+    if (wide > most) wide = most;
+    if (rows < wide) rows = wide;
     rows = rows < BAND_MIN_ROWS ? BAND_MIN_ROWS : rows / BAND_MIN_ROWS * BAND_MIN_ROWS;
     return rows > vp->height ? vp->height : (int32_t)rows;
 }
@@ -478,7 +480,6 @@ typedef struct {
 static int render_bands(render_state *st, tc_api_result *res, double *t0) {
     const tc_viewport *vp = &st->j->req->viewport;
     int nc = tc_mesh_channel_count(st->j->mesh);
-    int alpha = tc_img_has_alpha((tc_img_format)st->fmt, nc);
     for (int32_t row0 = 0; row0 < vp->height; row0 += st->b.rows) {
         int32_t rows = vp->height - row0 < st->b.rows ? vp->height - row0 : st->b.rows;
         float *values = st->b.values ? st->b.values : tc_img_writer_place(st->w, rows);
@@ -486,7 +487,7 @@ static int render_bands(render_state *st, tc_api_result *res, double *t0) {
         lap(res, TC_PHASE_EVALUATE, t0);
         if (rc != TC_OK) return rc;
         st->saturated += saturate(st->fmt, values, (size_t)vp->width * (size_t)rows * (size_t)nc);
-        rc = tc_img_writer_rows(st->w, values, alpha ? st->b.alpha : NULL, rows, st->err, sizeof st->err);
+        rc = tc_img_writer_rows(st->w, values, st->b.alpha, rows, st->err, sizeof st->err); /* NULL: no alpha */
         lap(res, TC_PHASE_ENCODE, t0);
         if (rc != 0) return TC_EINVAL;
     }
