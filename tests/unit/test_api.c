@@ -978,9 +978,10 @@ TEST(api_render_memory_budget) {
 }
 
 /* A render on many threads takes bands of ROWS_PER_THREAD rows per thread where 8 MiB
- * holds fewer (api.c band_rows): a 4096 x 300 grey raw render holds a band of 96 rows on one
- * thread (a peak of ~13 MiB) and of 256 on sixteen (~26 MiB), so a 16 MiB budget takes the
- * first and refuses the second as never fitting; without a budget both give the same bytes. */
+ * holds fewer (api.c band_rows): a 4096 x 300 grey raw render reserves a band of 96 rows on one
+ * thread (a peak of ~13 MiB) and of 256 on sixteen (~26 MiB; render_peak counts a band's
+ * buffers though raw renders into its answer), so a 16 MiB budget takes the first and refuses
+ * the second as never fitting; without a budget both give the same bytes. */
 TEST(api_render_band_rows_follow_threads) {
     const char *body = "{\"vertices\": [[0,0],[1,0],[0,1],[1,1]], \"triangles\": [[0,1,2],[1,3,2]], \"values\": [1,2,3,5],"
                        " \"format\": \"raw\", \"viewport\": {\"x0\": 0, \"y0\": 0, \"x1\": 1, \"y1\": 1,"
