@@ -43,7 +43,7 @@ static void method_panels(const tc_scene *s, const tc_scene_mesh *sm, const char
         bench_row_grey(err, k, panel);
         return;
     }
-    tc_render_options ro = {NULL, 2, 0, 0, 0};
+    tc_render_options ro = {.threads = 2};
     tc_render(p.recon, p.loc, &vp, &ro, tile, NULL);
     for (size_t i = 0; i < np; i++) panel[i] = clamp01(tile[i] / s->scale);
     bench_row_grey(img, k, panel);

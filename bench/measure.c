@@ -224,7 +224,7 @@ static void flat_error(const bench_reference *ref, const tc_mesh *m, bench_resul
  * a caller that only wants the picture would): the overshoot against each
  * pixel's own triangle, and the box's corner share. */
 static void untimed_render(const bench_reference *ref, const bench_prepared *p, bench_result *out) {
-    tc_render_options ro = {NULL, 2, 0, 0, 0}; /* the same bytes on any thread count */
+    tc_render_options ro = {.threads = 2}; /* the same bytes on any thread count */
     tc_render(p->recon, p->loc, &ref->vp, &ro, ref->tile, ref->owner);
     tc_overshoot(p->mesh, ref->tile, ref->owner, BENCH_W, BENCH_W, BENCH_OVER_THRESHOLD, &out->over);
     out->corner_share = corner_share(ref);
@@ -279,7 +279,7 @@ void bench_measure_round(const bench_reference *ref, bench_pending *pend, int ro
     if (round < pend->batches)
         pend->build[round] = build_batch(pend->p.mesh, &bench_methods[pend->method].opt, pend->reps);
     if (round < BENCH_RENDER_REPS) {
-        tc_render_options ro = {NULL, 1, 0, 0, 0};
+        tc_render_options ro = {.threads = 1};
         double t0 = bench_now_ms();
         tc_render(pend->p.recon, pend->p.loc, &ref->vp, &ro, ref->tile, NULL);
         pend->render[round] = bench_now_ms() - t0;

@@ -70,7 +70,7 @@ static int exact_tile(const bench_surface *b, const tc_viewport *vp, float *tile
 static int method_tile(const bench_surface *b, const char *name, const tc_viewport *vp, float *tile, int32_t *owner) {
     int k = bench_surface_method_find(name);
     tc_recon *r = NULL;
-    tc_render_options ro = {NULL, 2, 0, 0, 0};
+    tc_render_options ro = {.threads = 2};
     int st = k < 0 ? TC_EINVAL : tc_recon_new(b->m, &bench_surface_methods[k].opt, &r, NULL);
     if (st == TC_OK) st = tc_render(r, b->L, vp, &ro, tile, owner);
     tc_recon_free(r);

@@ -142,7 +142,7 @@ static void row_method(tc_strbuf *out, const bench_surface *b, surf_tile *t, int
     int st = tc_recon_new(b->m, &sm->opt, &r, &dg);
     tc_overshoot_stats o;
     tc_error_stats e;
-    tc_render_options ro = {NULL, 2, 0, 0, 0};
+    tc_render_options ro = {.threads = 2};
     if (st == TC_OK) st = tc_render(r, b->L, &t->vp, &ro, t->tile, t->owner);
     if (st == TC_OK) st = tc_overshoot(b->m, t->tile, t->owner, W, W, BENCH_OVER_THRESHOLD, &o);
     if (st == TC_OK) st = tc_compare(r, b->L, (size_t)W * W, t->xy, t->exact, b->s.scale, &e);

@@ -402,6 +402,10 @@ typedef struct {
     int32_t row0, rows;       /* only rows [row0, row0 + rows) of the viewport (rows 0: to
                                * the last row), stored from row 0 of values and owner; each
                                * pixel as the whole tile's, so a tile may be rendered in bands */
+    double limit;             /* > 0: every sample of magnitude >= limit (rounded to float) is
+                               * stored as +-limit (an image format's largest sample: half's
+                               * 65504, float's FLT_MAX) and counted; 0: none is */
+    int64_t *limited;         /* not NULL: the count of such samples is added to *limited */
 } tc_render_options;
 
 /* tc_render's unit of work for its threads, in rows: a caller that renders a tile in bands

@@ -135,7 +135,7 @@ static double eval_best(const built *b, size_t n, const double *xy, double *v, d
 }
 
 static double render_vp(const built *b, const tc_viewport *vp, int threads, float *px) {
-    tc_render_options o = {NULL, threads, 0, 0, 0};
+    tc_render_options o = {.threads = threads};
     double best = INFINITY;
     for (int i = 0, reps = 1; i < reps; i++) {
         double t0 = now_s();
@@ -166,7 +166,7 @@ static double flagged_build(const char *dir, const char *name, double *mesh_s) {
 
 static double render_best(const built *b, int threads, float *px, double *checksum) {
     tc_viewport vp = {0, 0, 1, 1, TILE, TILE};
-    tc_render_options o = {NULL, threads, 0, 0, 0};
+    tc_render_options o = {.threads = threads};
     double best = INFINITY;
     for (int i = 0, reps = 1; i < reps; i++) {
         double t0 = now_s();

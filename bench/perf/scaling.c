@@ -41,7 +41,7 @@ static int32_t call_rows; /* --rows: rows per tc_render call; 0 = the whole tile
 static int render_tile(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, int threads, float *px) {
     int32_t step = call_rows > 0 ? call_rows : vp->height;
     for (int32_t j = 0; j < vp->height; j += step) {
-        tc_render_options o = {NULL, threads, 0, j, vp->height - j < step ? vp->height - j : step};
+        tc_render_options o = {.threads = threads, .row0 = j, .rows = vp->height - j < step ? vp->height - j : step};
         if (tc_render(r, L, vp, &o, px + (size_t)j * (size_t)vp->width * (size_t)r->m->nc, NULL) != TC_OK) return -1;
     }
     return 0;

@@ -35,7 +35,7 @@ int main(int argc, char **argv) {
     int32_t *own = malloc(np * sizeof *own), *own3 = malloc(np * sizeof *own3), *t = malloc(np * sizeof *t);
     double *xy = malloc(2 * np * sizeof *xy), *val = malloc(np * nc * sizeof *val);
     if (!a || !b || !own || !own3 || !t || !xy || !val) return 1;
-    tc_render_options o1 = {NULL, 1, 0, 0, 0}, o3 = {NULL, 3, 0, 0, 0};
+    tc_render_options o1 = {.threads = 1}, o3 = {.threads = 3};
     if (tc_render(r, L, &vp, &o1, a, own) != TC_OK || tc_render(r, L, &vp, &o3, b, own3) != TC_OK) return 1;
     int same = !memcmp(a, b, np * nc * sizeof *a) && !memcmp(own, own3, np * sizeof *own);
     size_t ncoef = (size_t)tc_mesh_triangle_count(m) * nc * (size_t)tc_recon_coef_count(r);

@@ -140,8 +140,13 @@ int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha
 
 float *tc_img_writer_place(tc_img_writer *w, int rows) {
     const tc_img *h = &w->header;
-    if (!RAW_IS_HOST || !w->raw || h->alpha || rows < 1 || rows > h->height - w->rows_done) return NULL;
+    if (!tc_img_places(w->f, h->channels) || rows < 1 || rows > h->height - w->rows_done) return NULL;
     return (float *)(void *)raw_next(w);
+}
+
+int tc_img_places(tc_img_format f, int nc) {
+    const tc_img_traits *t = tc_img_traits_of(f);
+    return RAW_IS_HOST && t && !t->plugin && !tc_img_has_alpha(f, nc);
 }
 
 int tc_img_writer_finish(tc_img_writer *w, unsigned char **out, size_t *len, size_t *cap, char *err, size_t errlen) {

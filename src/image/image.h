@@ -45,6 +45,9 @@ void tc_img_free(unsigned char *p);
  *                                              _rows with that pointer copies nothing);
  *                                              NULL where the writer converts them: every
  *                                              format but raw, and raw on a big-endian host
+ *   tc_img_places(f, nc)                       1 when a writer of f for nc channels gives
+ *                                              such places (the caller can plan for it
+ *                                              before opening one), else 0
  * Each returns 0, or -1 with a message in err; after a failure only _free is
  * meaningful. The bytes equal tc_img_encode's whatever the bands. */
 typedef struct tc_img_writer tc_img_writer;
@@ -54,6 +57,7 @@ int tc_img_writer_rows(tc_img_writer *w, const float *pixels, const float *alpha
 int tc_img_writer_finish(tc_img_writer *w, unsigned char **out, size_t *len, size_t *cap, char *err, size_t errlen);
 void tc_img_writer_free(tc_img_writer *w);
 float *tc_img_writer_place(tc_img_writer *w, int rows);
+int tc_img_places(tc_img_format f, int nc);
 
 /* Loads the OpenImageIO part now (it is loaded on the first encode otherwise).
  * Returns 0, or -1 with the reason in err. */

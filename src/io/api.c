@@ -362,8 +362,12 @@ static void band_free(band *b) { tc__free(b->values), tc__free(b->alpha), tc__fr
  * encoder's converted copy of the samples (plus alpha). */
 static int64_t band_pixel_bytes(int nc) { return (int64_t)(2 * nc + 3) * 4; }
 
-/* threads: threads_of(lim), at least 1. */
-static int32_t band_rows(const tc_viewport *vp, int nc, int threads) {
+/* threads: threads_of(lim), at least 1. A render into its answer (tc_img_places) is one
+ * band, the whole tile: it holds no band of its own, and one tc_render call keeps every
+ * thread busy to the end (a 4096² tile rendered 1.37x faster whole than in 256-row calls on
+ * 16 threads of the lent Xeon, rows_per_call.txt). */
+static int32_t band_rows(const tc_viewport *vp, int nc, int threads, int in_place) {
+    if (in_place) return vp->height;
     int64_t row_bytes = (int64_t)vp->width * band_pixel_bytes(nc), rows = BAND_BYTES / row_bytes;
     int64_t wide = (int64_t)threads * ROWS_PER_THREAD, most = BAND_MAX_BYTES / row_bytes;
     if (wide > most) wide = most;
@@ -374,17 +378,23 @@ static int32_t band_rows(const tc_viewport *vp, int nc, int threads) {
 
 /* The most a render may hold at once: its answer at most (every stored
  * sample uncompressed, plus 1/64 and 64 KiB for headers and a compressor's
- * worst case) and one band. What --max-memory reserves before it starts. */
+ * worst case) and one band, or rendered into its answer, tc_render's owners
+ * (TC_RENDER_BAND_ROWS rows per thread). What --max-memory reserves before it starts. */
 static int64_t render_peak(const tc_viewport *vp, int nc, int fmt, int threads) {
     const tc_img_traits *t = tc_img_traits_of((tc_img_format)fmt);
     int64_t np = (int64_t)vp->width * vp->height;
     int64_t stored = np * (nc + (tc_img_has_alpha((tc_img_format)fmt, nc) ? 1 : 0)) * t->sample_bytes;
-    return stored + stored / 64 + (64 << 10) + (int64_t)vp->width * band_rows(vp, nc, threads) * band_pixel_bytes(nc);
+    int64_t working = tc_img_places((tc_img_format)fmt, nc)
+                          ? (int64_t)threads * TC_RENDER_BAND_ROWS * vp->width * (int64_t)sizeof(int32_t)
+                          : (int64_t)vp->width * band_rows(vp, nc, threads, 0) * band_pixel_bytes(nc);
+    return stored + stored / 64 + (64 << 10) + working;
 }
 
-/* values: the band's own, unless the writer takes the samples in place (raw). */
-static int band_alloc(band *b, const tc_viewport *vp, int nc, int threads, int values, int alpha) {
-    b->rows = band_rows(vp, nc, threads);
+/* in_place: the writer takes the samples where they are rendered (raw), so the band has no
+ * values of its own. */
+static int band_alloc(band *b, const tc_viewport *vp, int nc, int threads, int in_place, int alpha) {
+    int values = !in_place;
+    b->rows = band_rows(vp, nc, threads, in_place);
     size_t np = (size_t)vp->width * (size_t)b->rows;
     b->values = values ? tc__malloc(np * (size_t)nc, sizeof *b->values) : NULL;
     b->alpha = alpha ? tc__malloc(np, sizeof *b->alpha) : NULL;
@@ -400,13 +410,22 @@ static int format_of(const tc_request *req, int fallback) {
 
 /* Rasterizes rows [row0, row0 + rows) of the viewport into values (b's, or the
  * answer's own bytes) and b's owners and alpha (overlay included): each pixel as
- * the whole tile's. Returns a core status. */
+ * the whole tile's. A linear format's samples hold values up to its max_sample (float:
+ * FLT_MAX, half: 65504; display formats 0, none): tc_render writes a sample beyond it
+ * as that bound and adds it to *saturated (the warning says so: the encoders would
+ * otherwise write infinities that /v1/evaluate does not give). The overlay, drawn after,
+ * is at most 1 in a linear format. Returns a core status. */
 static int rasterize(const job *j, const tc_api_limits *lim, int fmt, const tc_locator *L, int32_t row0,
-                     int32_t rows, band *b, float *values) {
+                     int32_t rows, band *b, float *values, int64_t *saturated) {
     const tc_request *req = j->req;
     const tc_viewport *vp = &req->viewport;
-    tc_render_options ropt = {req->has_background ? req->background : NULL, threads_of(lim),
-                              lim ? lim->deadline_ms : 0, row0, rows};
+    tc_render_options ropt = {.background = req->has_background ? req->background : NULL,
+                              .threads = threads_of(lim),
+                              .deadline_ms = lim ? lim->deadline_ms : 0,
+                              .row0 = row0,
+                              .rows = rows,
+                              .limit = tc_img_traits_of((tc_img_format)fmt)->max_sample,
+                              .limited = saturated};
     int rc = tc_render(j->recon, L, vp, &ropt, values, b->owner);
     if (rc != TC_OK) return rc;
     if (b->alpha)
@@ -415,44 +434,6 @@ static int rasterize(const job *j, const tc_api_limits *lim, int fmt, const tc_l
         tc_render_overlay_rows(j->recon, vp, tc_img_traits_of((tc_img_format)fmt)->display ? pow(2, -req->exposure) : 1,
                                row0, rows, values);
     return TC_OK;
-}
-
-/* Whether some |v[i]| >= b, four at a time without a branch (SSE2 on x86-64): the common
- * answer, no, costs ~1 ms for a 4096² tile, where the loop below with its branch per value
- * took ~15 ms (this 2-core VM). */
-static int any_at_least(const float *v, size_t n, float b) {
-    typedef float v4f __attribute__((vector_size(16)));
-    typedef int32_t v4i __attribute__((vector_size(16)));
-    const v4i magnitude = {0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff};
-    const v4f bound = {b, b, b, b};
-    v4i hit = {0, 0, 0, 0};
-    size_t i = 0;
-    for (; i + 4 <= n; i += 4) {
-        v4f x;
-        memcpy(&x, v + i, sizeof x);
-        hit |= (v4f)((v4i)x & magnitude) >= bound;
-    }
-    int any = (hit[0] | hit[1] | hit[2] | hit[3]) != 0;
-    for (; i < n; i++) any |= fabsf(v[i]) >= b;
-    return any;
-}
-
-/* A linear format's samples hold values up to its max_sample (float: FLT_MAX,
- * which the render never passes; half: 65504). Beyond, a value is written as
- * that bound; returns how many (the caller's warning says so: the encoders
- * would otherwise write infinities that /v1/evaluate does not give). */
-static int64_t saturate(int fmt, float *v, size_t n) {
-    double bound = tc_img_traits_of((tc_img_format)fmt)->max_sample;
-    if (!(bound > 0)) return 0;
-    float b = (float)bound;
-    if (!any_at_least(v, n, b)) return 0;
-    int64_t count = 0;
-    for (size_t i = 0; i < n; i++) {
-        if (!(fabsf(v[i]) >= b)) continue; /* the tile holds no NaN (tc_render) */
-        count++;
-        v[i] = copysignf(b, v[i]);
-    }
-    return count;
 }
 
 static void saturate_warning(int fmt, int64_t count, tc_api_result *res) {
@@ -479,14 +460,13 @@ typedef struct {
  * the writer failed, with its message in st->err). */
 static int render_bands(render_state *st, tc_api_result *res, double *t0) {
     const tc_viewport *vp = &st->j->req->viewport;
-    int nc = tc_mesh_channel_count(st->j->mesh);
     for (int32_t row0 = 0; row0 < vp->height; row0 += st->b.rows) {
         int32_t rows = vp->height - row0 < st->b.rows ? vp->height - row0 : st->b.rows;
         float *values = st->b.values ? st->b.values : tc_img_writer_place(st->w, rows);
-        int rc = rasterize(st->j, st->lim, st->fmt, st->L ? st->L : st->j->locator, row0, rows, &st->b, values);
+        int rc = rasterize(st->j, st->lim, st->fmt, st->L ? st->L : st->j->locator, row0, rows, &st->b, values,
+                           &st->saturated);
         lap(res, TC_PHASE_EVALUATE, t0);
         if (rc != TC_OK) return rc;
-        st->saturated += saturate(st->fmt, values, (size_t)vp->width * (size_t)rows * (size_t)nc);
         rc = tc_img_writer_rows(st->w, values, st->b.alpha, rows, st->err, sizeof st->err); /* NULL: no alpha */
         lap(res, TC_PHASE_ENCODE, t0);
         if (rc != 0) return TC_EINVAL;
@@ -503,8 +483,8 @@ static int render_encode(render_state *st, tc_strbuf *out, tc_api_result *res, d
     static const float marks_alpha = 1;
     if (tc_img_has_alpha((tc_img_format)st->fmt, nc)) header.alpha = &marks_alpha;
     if (tc_img_writer_open(&header, (tc_img_format)st->fmt, &st->w, st->err, sizeof st->err) != 0) return TC_EINVAL;
-    int in_place = tc_img_writer_place(st->w, 1) != NULL; /* raw: rendered straight into the answer */
-    int rc = band_alloc(&st->b, &req->viewport, nc, threads_of(st->lim), !in_place, header.alpha != NULL);
+    int in_place = tc_img_places((tc_img_format)st->fmt, nc); /* raw: rendered straight into the answer */
+    int rc = band_alloc(&st->b, &req->viewport, nc, threads_of(st->lim), in_place, header.alpha != NULL);
     if (rc == TC_OK && !st->j->locator) rc = tc_locator_new(st->j->mesh, &st->L); /* a stored mesh has its own */
     if (rc != TC_OK) return rc;
     if ((rc = render_bands(st, res, t0)) != TC_OK) return rc;

@@ -67,7 +67,7 @@ static long disagreements(const srun *x) {
     long bad = 0;
     const int threads[3] = {1, 2, 5};
     for (int k = 0; k < 3; k++) {
-        tc_render_options o = {NULL, threads[k], 0, 0, 0};
+        tc_render_options o = {.threads = threads[k]};
         if (tc_render(x->r, x->L, &VP, &o, img[k], own[k]) != TC_OK) bad++;
         if (k && (memcmp(img[k], img[0], sizeof img[0]) || memcmp(own[k], own[0], sizeof own[0]))) bad++;
     }

@@ -495,7 +495,8 @@ TEST(image_writer_bands_give_the_same_bytes) {
 
 /* A raw image's rows written in place (tc_img_writer_place, two rows at a time; what the
  * daemon renders into) give tc_img_encode's bytes; no place past the last row, for no rows,
- * or for a format the writer converts (PNG). */
+ * or for a format the writer converts (PNG). tc_img_places says so before a writer opens
+ * (the daemon's memory reservation reads it). */
 TEST(image_writer_place_raw) {
     test_img t;
     make_img(&t, 3, 0);
@@ -521,6 +522,10 @@ TEST(image_writer_place_raw) {
     w = NULL;
     if (tc_img_writer_open(&t.im, TC_IMG_PNG, &w, err, sizeof err) == 0) CHECK(tc_img_writer_place(w, 1) == NULL);
     tc_img_writer_free(w);
+    CHECK(tc_img_places(TC_IMG_RAW, 3) == 1 && tc_img_places(TC_IMG_RAW, 16) == 1); /* as placed above */
+    for (int f = 0; f < TC_IMG_NFORMATS; f++)
+        if (f != TC_IMG_RAW) CHECK_MSG(tc_img_places((tc_img_format)f, 1) == 0, "%s in place", tc_img_format_name((tc_img_format)f));
+    CHECK(tc_img_places((tc_img_format)-1, 1) == 0);
 }
 
 /* ---- the format table as a whole ----------------------------------------------------- */

@@ -73,7 +73,7 @@ static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
     int32_t *own = malloc(np * sizeof *own);
     double bg[TC_MAX_CHANNELS];
     for (int ch = 0; ch < nc; ch++) bg[ch] = -7.5 + ch;
-    tc_render_options o = {bg, threads, 0, 0, 0};
+    tc_render_options o = {.background = bg, .threads = threads};
     CHECK(tc_render(s->r, s->L, vp, &o, img, own) == TC_OK);
     int bad_owner = 0, bad_value = 0;
     for (int32_t j = 0; j < vp->height; j++)
@@ -311,7 +311,7 @@ TEST(raster_same_bits_for_any_thread_count) {
     size_t np = (size_t)vp.width * (size_t)vp.height;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     int32_t *oa = malloc(np * sizeof *oa), *ob = malloc(np * sizeof *ob);
-    tc_render_options o = {NULL, 1, 0, 0, 0};
+    tc_render_options o = {.threads = 1};
     CHECK(tc_render(s.r, s.L, &vp, &o, a, oa) == TC_OK);
     /* 16 threads on 197 rows: bands of 8 rows from the start; 2 and 3: of 32, shrinking at the end */
     int threads[] = {2, 3, 4, 8, 16, 40};
@@ -326,6 +326,57 @@ TEST(raster_same_bits_for_any_thread_count) {
     scene_free(&s);
 }
 
+/* tc_render_options.limit: every sample of magnitude >= the limit is stored as +-limit and
+ * counted (added to *limited), every other sample is the unlimited tile's; the same on any
+ * thread count, in bands, with the background past the limit too; no limit (0, NaN, or beyond
+ * the float range) changes nothing and counts nothing. */
+TEST(raster_limit_clamps_and_counts) {
+    scene s;
+    scene_init(&s, 16, 0.25, 3, tc_test_seed() + 23);
+    if (!s.r) return;
+    tc_viewport vp = {-0.1, 0, 1, 1.05, 173, 151}; /* a margin of background on two sides */
+    size_t np = (size_t)vp.width * (size_t)vp.height, n = np * 3;
+    float *free_tile = malloc(n * sizeof *free_tile), *got = malloc(n * sizeof *got);
+    double bg[3] = {0.5, -1e6, 0}; /* channel 1's background is past any limit below */
+    tc_render_options o = {.background = bg, .threads = 1};
+    CHECK(tc_render(s.r, s.L, &vp, &o, free_tile, NULL) == TC_OK);
+    float lim = 0;
+    for (size_t i = 0; i < n; i += 3) lim = fmaxf(lim, fabsf(free_tile[i])); /* channel 0's largest */
+    for (size_t i = 0; i < n; i += 3) /* the limit a sample itself (>=, not >), about 3/4 of that */
+        if (fabsf(free_tile[i]) <= 0.75f * lim && fabsf(free_tile[i]) > 0.7f * lim) {
+            lim = fabsf(free_tile[i]);
+            break;
+        }
+    int64_t want = 0;
+    for (size_t i = 0; i < n; i++) want += fabsf(free_tile[i]) >= lim;
+    CHECK(want > (int64_t)np / 20 && want < (int64_t)n); /* some samples of the mesh, and the background */
+    for (int threads = 1; threads <= 3; threads++)
+        for (int32_t band = 0; band <= 40; band += 40) { /* the whole tile, then bands of 40 rows */
+            int64_t count = 5; /* added to */
+            o = (tc_render_options){.background = bg, .threads = threads, .limit = lim, .limited = &count};
+            int ok = 1;
+            for (int32_t j = 0; j < vp.height; j += band ? band : vp.height) {
+                o.row0 = j, o.rows = band && vp.height - j > band ? band : vp.height - j;
+                ok &= tc_render(s.r, s.L, &vp, &o, got + (size_t)j * (size_t)vp.width * 3, NULL) == TC_OK;
+            }
+            int same = ok;
+            for (size_t i = 0; i < n; i++)
+                same &= fabsf(free_tile[i]) >= lim ? got[i] == copysignf(lim, free_tile[i]) : got[i] == free_tile[i];
+            CHECK_MSG(same, "%d threads, bands of %d: a sample is not the limited tile's", threads, (int)band);
+            CHECK_MSG(count == 5 + want, "%d threads, bands of %d: %lld counted, %lld reach the limit", threads,
+                      (int)band, (long long)(count - 5), (long long)want);
+        }
+    double none[] = {0, NAN, 1e39};
+    for (int k = 0; k < 3; k++) {
+        int64_t count = 0;
+        o = (tc_render_options){.background = bg, .threads = 2, .limit = none[k], .limited = &count};
+        CHECK(tc_render(s.r, s.L, &vp, &o, got, NULL) == TC_OK);
+        CHECK_MSG(count == 0 && !memcmp(got, free_tile, n * sizeof *got), "limit %g changed the tile", none[k]);
+    }
+    free(free_tile), free(got);
+    scene_free(&s);
+}
+
 /* A tile rendered in bands of rows (row0/rows), overlay included, is the whole
  * tile's pixels bit for bit; rows outside the viewport are refused. */
 TEST(raster_bands_equal_the_whole_tile) {
@@ -336,7 +387,7 @@ TEST(raster_bands_equal_the_whole_tile) {
     size_t row = (size_t)vp.width * 3, n = row * (size_t)vp.height;
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     int32_t *oa = malloc(n / 3 * sizeof *oa), *ob = malloc(n / 3 * sizeof *ob);
-    tc_render_options o = {NULL, 2, 0, 0, 0};
+    tc_render_options o = {.threads = 2};
     CHECK(tc_render(s.r, s.L, &vp, &o, a, oa) == TC_OK);
     tc_render_overlay(s.r, &vp, 0.5, a);
     int steps[] = {1, 7, 16, 40, 97};
@@ -366,7 +417,7 @@ TEST(raster_outside_background_and_errors) {
     float img[64];
     int32_t own[64];
     double bg = 0.25;
-    tc_render_options o = {&bg, 1, 0, 0, 0};
+    tc_render_options o = {.background = &bg, .threads = 1};
     CHECK(tc_render(s.r, s.L, &off, &o, img, own) == TC_OK);
     int ok = 1;
     for (int p = 0; p < 64; p++) ok &= img[p] == 0.25f && own[p] == -1;
@@ -377,7 +428,7 @@ TEST(raster_outside_background_and_errors) {
     CHECK(tc_render(s.r, s.L, &bad, &o, img, own) == TC_EINVAL);
     bad = (tc_viewport){0, 0, NAN, 1, 8, 8};
     CHECK(tc_render(s.r, s.L, &bad, &o, img, own) == TC_EINVAL);
-    tc_render_options late = {NULL, 2, 1.0, 0, 0}; /* a deadline long past */
+    tc_render_options late = {.threads = 2, .deadline_ms = 1.0}; /* a deadline long past */
     tc_viewport vp = {0, 0, 1, 1, 8, 8};
     CHECK(tc_render(s.r, s.L, &vp, &late, img, own) == TC_ETIMEOUT);
     scene_free(&s);
