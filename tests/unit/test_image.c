@@ -166,6 +166,42 @@ static void check_png(int nch, int with_alpha, int sixteen, int linear, double e
     tc_img_decoded_free(&d);
 }
 
+/* Every level's boundary: the encoder quantizes by thresholds found on the formula (encode.cpp's
+ * Quantizer), so a sample a few floats either side of where each level begins, and random ones,
+ * must all decode to png_reference's level. One grey channel, 1024 samples a row. */
+static void check_png_boundaries(int sixteen, int linear, double exposure) {
+    double maxval = sixteen ? 65535 : 255, scale = exp2(exposure);
+    size_t n = 0, cap = (size_t)maxval * 7 + 4096;
+    float *v = malloc(cap * sizeof *v);
+    if (!v) return;
+    for (int k = 1; k <= (int)maxval; k++) {
+        double y = (k - 0.5) / maxval, x = linear ? y : y <= 12.92 * 0.0031308 ? y / 12.92 : pow((y + 0.055) / 1.055, 2.4);
+        float f = (float)(x / scale);
+        for (int i = 0; i < 3; i++) f = nextafterf(f, 0);
+        for (int i = 0; i < 7; i++, f = nextafterf(f, INFINITY)) v[n++] = f;
+    }
+    unsigned r = 12345;
+    while (n < cap) { /* random floats in [0, 1.25 / scale) */
+        r = r * 1103515245u + 12345u;
+        v[n++] = (float)((r >> 8) / 16777216.0 * 1.25 / scale);
+    }
+    int width = 1024, height = (int)((n + 1023) / 1024);
+    float *px = calloc((size_t)width * (size_t)height, sizeof *px);
+    if (!px) return free(v);
+    memcpy(px, v, n * sizeof *v);
+    tc_img im = {.width = width, .height = height, .channels = 1, .pixels = px, .exposure = exposure, .linear = linear};
+    tc_img_decoded d;
+    if (round_trip(&im, sixteen ? TC_IMG_PNG16 : TC_IMG_PNG, &d) == 0) {
+        long bad = 0, first = -1;
+        for (size_t p = 0; p < (size_t)width * (size_t)height; p++)
+            if (lround(d.pixels[p] * maxval) != png_reference(px[p], exposure, linear, maxval)) bad++, first = first < 0 ? (long)p : first;
+        CHECK_MSG(bad == 0, "png%s linear %d exposure %g: %ld of %zu samples at other levels (first %ld: %.9g)",
+                  sixteen ? "16" : "", linear, exposure, bad, n, first, first >= 0 ? px[first] : 0.0);
+        tc_img_decoded_free(&d);
+    }
+    free(v), free(px);
+}
+
 /* ---- names (no plugin) -------------------------------------------------------------- */
 
 TEST(image_format_names) {
@@ -299,6 +335,15 @@ TEST(image_png8) {
             check_png(3, a, 0, linear, 0.5);
             check_png(3, a, 0, linear, -1.25);
         }
+}
+
+TEST(image_png_levels_at_every_boundary) {
+    check_png_boundaries(0, 0, 0.0);
+    check_png_boundaries(0, 1, 0.5);
+    check_png_boundaries(0, 0, -1.25);
+    check_png_boundaries(1, 0, 0.0);
+    check_png_boundaries(1, 1, 1.0);
+    check_png_boundaries(1, 0, -2.5);
 }
 
 TEST(image_png16) {
