@@ -75,9 +75,10 @@ $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
 # GCC notes that 32-byte vectors passed by value change the ABI without AVX: they pass only
 # between always-inline functions of one build, never across a call (ct_span.c, ct_fast.h,
-# ct_points.c).
+# ct_points.c; bench_scaling includes ct_fast.h for tc__raster_force_generic).
 $(BUILD)/obj/src/core/ct_span.o $(BUILD)/obj/src/core/ct_fast.o $(BUILD)/obj/src/core/raster.o \
-  $(BUILD)/obj/src/core/ct_points.o $(BUILD)/obj/tests/unit/test_raster.o: ALL_CFLAGS += -Wno-psabi
+  $(BUILD)/obj/src/core/ct_points.o $(BUILD)/obj/tests/unit/test_raster.o \
+  $(BUILD)/obj/bench/perf/scaling.o: ALL_CFLAGS += -Wno-psabi
 # The render loop is worth -O3 (unrolling, +17% Mpixel/s per thread measured on a 1024² tile of
 # 8192 triangles); only where the build is optimized anyway (`make check` keeps its -O1).
 $(BUILD)/obj/src/core/raster.o: ALL_CFLAGS += $(if $(filter -O2,$(OPT)),-O3)

@@ -2,11 +2,15 @@
  * square tile with 1..N threads, best of a few, and prints one JSON object on stdout; with
  * --build, the validation (tc_mesh_new) and build (tc_recon_new) of the mesh instead.
  *
- *     build/bench_scaling [--rows N] MESH.json [SIZE [THREADS,...]]     (default 1024, "1,2")
+ *     build/bench_scaling [--portable | --no-fma] [--rows N] MESH.json [SIZE [THREADS,...]]  (default 1024, "1,2")
  *     build/bench_scaling --build MESH.json [THREADS,...]
  *
  * --rows N: the tile rendered in calls of N rows (tc_render_options.row0/rows), as the daemon
  * renders a big tile a band of ~8 MiB at a time (96 rows of a 4096-wide one-channel tile).
+ * --portable: the row loop's portable build, as on a CPU without AVX2 and FMA (its fused
+ * multiply-adds are calls of libm's fma: with GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA, libm's
+ * software fma, as such a CPU has it). --no-fma: as tc_render runs on such a CPU (no fast form:
+ * the exact path for every triangle).
  *
  * The viewport is the unit square the bench meshes (bench/perf/meshes.py) cover. Each thread
  * count renders the same tile; the checksum of every run must agree (bit-identical output for
@@ -18,6 +22,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/ct_fast.h"
 #include "core/mesh.h"
 #include "core/recon.h"
 #include "io/request.h"
@@ -121,12 +126,17 @@ static int main_build(const char *path, const char *list) {
 
 int main(int argc, char **argv) {
     if (argc > 2 && !strcmp(argv[1], "--build")) return main_build(argv[2], argc > 3 ? argv[3] : "1,2");
+    if (argc > 2 && (!strcmp(argv[1], "--portable") || !strcmp(argv[1], "--no-fma"))) {
+        tc__raster_force_generic(!strcmp(argv[1], "--portable") ? 1 : 2);
+        argc -= 1, argv += 1;
+    }
     if (argc > 3 && !strcmp(argv[1], "--rows")) {
         call_rows = atoi(argv[2]);
         argc -= 2, argv += 2;
     }
     if (argc < 2) {
-        fprintf(stderr, "usage: %s [--rows N] MESH.json [SIZE [THREADS,...]] | --build MESH.json [THREADS,...]\n", argv[0]);
+        fprintf(stderr, "usage: %s [--portable | --no-fma] [--rows N] MESH.json [SIZE [THREADS,...]] | --build MESH.json [THREADS,...]\n",
+                argv[0]);
         return 2;
     }
     int32_t size = argc > 2 ? atoi(argv[2]) : 1024;

@@ -47,8 +47,13 @@ typedef struct {
 
 void tc__ct_fast_prepare(const tc__eval_frame *f, const double *coef, int nc, tc__ct_fast *ff);
 
-/* Tests: 1 makes tc_render use the portable build of its row loop (raster.c), 0 lets the CPU choose. */
+/* Tests: 1 makes tc_render use the portable build of its row loop with the fast form (raster.c), 2
+ * no fast form (the exact path for every triangle, as where fma is not an instruction), 0 lets
+ * the CPU choose. */
 void tc__raster_force_generic(int on);
+/* Tests: triangles set up in the fast form since tc__raster_force_generic last set a mode (counted
+ * only while one is set). */
+long tc__raster_fast_setups(void);
 
 /* a * b + c, lane by lane, rounded once: lane-wise fma, which GCC turns into one vfmadd in a
  * function built for FMA (raster.c's cover_rows_avx2) and into calls of libm's fma elsewhere. */

@@ -43,6 +43,7 @@ typedef struct {
     int grain_lo, grain_hi; /* every centre of xs and ys a multiple of 2^grain_lo, below 2^grain_hi in magnitude */
     int nc;              /* r->m->nc: read once, not behind two pointers in every four pixels */
     double per_x;        /* vp->width / (vp->x1 - vp->x0): pixels per unit along a row (row guesses only) */
+    int fast_form;       /* fast_form_here(), read once */
     int threads;            /* the workers taking bands (band_size) */
     atomic_int next_row;    /* the first row no worker has taken, from row0 */
     float limit;            /* ropt->limit as a float, or 0 */
@@ -615,11 +616,28 @@ __attribute__((target("avx2,fma"))) static void cover_rows_avx2(const band *bd, 
     for (int32_t j = j0; j <= j1; j++) cover_row_body(bd, tr, j, i0, i1);
 }
 
-static int force_generic;
+static int force_generic; /* tests (tc__raster_force_generic): 1 the portable row loop, 2 no fast form */
+static atomic_long fast_setups; /* tests: triangles set up in the fast form while force_generic is set */
 
 /* cover_rows_avx2's instructions: AVX2, and FMA for ct_fast.h's fused multiply-adds. */
 static inline int cpu_avx2_fma(void) {
     return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}
+
+/* Whether triangles may take the fast form (ct_fast.h) here: only where its fused multiply-adds
+ * are instructions in the row loop, i.e. the AVX2 build on a CPU with FMA, or a target whose
+ * compiler inlines fma (__FP_FAST_FMA: aarch64). Elsewhere each is a call of libm's fma, and on
+ * an x86 CPU without FMA libm's software one (~1 us a call): a 1024² grid64 tile ran at 0.3
+ * Mpixel/s in the fast form's portable build with it (GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA
+ * here), 15 with calls of the hardware fma, and 30 on the exact path, which every triangle then
+ * takes (its pixels /v1/evaluate's doubles, rounded to float, bit for bit). */
+static int fast_form_here(void) {
+    if (force_generic) return force_generic == 1; /* 1: the portable build's fast form, for its tests */
+#ifdef __FP_FAST_FMA
+    return 1;
+#else
+    return cpu_avx2_fma();
+#endif
 }
 
 /* tc__frame's corners and edges, the corners taken from the slot (the locator's copy, in cache)
@@ -645,6 +663,11 @@ static int fast_shape(const tc__eval_frame *f) {
 
 void tc__raster_force_generic(int on) {
     force_generic = on;
+    atomic_store(&fast_setups, 0);
+}
+
+long tc__raster_fast_setups(void) {
+    return atomic_load(&fast_setups);
 }
 
 /* A fast triangle's corners from the top down and the slopes of its edges (row_hull's). */
@@ -677,7 +700,8 @@ static void tri_setup(const job *jb, const struct tc__slot *s, int64_t box, tri 
         tr->low[ch] = (v4f){lo, lo, lo, lo};
     }
     frame_from_slot(jb->r->m, s, &tr->f);
-    tr->fast = jb->r->eval == tc__ct_eval && box >= 16 && fast_shape(&tr->f);
+    tr->fast = jb->fast_form && jb->r->eval == tc__ct_eval && box >= 16 && fast_shape(&tr->f);
+    if (force_generic && tr->fast) atomic_fetch_add(&fast_setups, 1);
     if (!tr->fast) {
         tc__frame_rest(&tr->f); /* the exact evaluation's whole frame, tc__frame's */
         for (int k = 0; k < 3; k++) tr->slope[k] = (s->x[k == 2 ? 0 : k + 1] - s->x[k]) / tr->dy[k];
@@ -922,7 +946,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     /* beyond FLT_MAX: infinity, which no sample reaches (the tile stops at +-FLT_MAX); NaN: none */
     float limit = ropt->limit > FLT_MAX ? INFINITY : ropt->limit > 0 ? (float)ropt->limit : 0;
     job jb = {r,        L,         vp,       ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
-              r->m->nc, vp->width / (vp->x1 - vp->x0), 1, 0, limit, 0, 0, 0};
+              r->m->nc, vp->width / (vp->x1 - vp->x0), fast_form_here(), 1, 0, limit, 0, 0, 0};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     if (ropt->limited) *ropt->limited += atomic_load(&jb.limited);
     tc__free(xs), tc__free(ys);

@@ -63,8 +63,9 @@ static int within_contract(float got, double v, double scale) {
     return got >= (float)(v - d) && got <= (float)(v + d);
 }
 
-/* Renders vp and checks every pixel against tc_locate + tc_eval_points. */
-static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
+/* Renders vp and checks every pixel against tc_locate + tc_eval_points: within the contract,
+ * or with exact, (float) of the double itself. */
+static void check_tile_as(const scene *s, const tc_viewport *vp, int threads, int exact) {
     int nc = tc_mesh_channel_count(s->m);
     double scale[TC_MAX_CHANNELS];
     for (int ch = 0; ch < nc; ch++) scale[ch] = channel_scale(s->r, ch);
@@ -86,12 +87,17 @@ static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
             bad_owner += own[p] != t;
             for (int ch = 0; ch < nc; ch++) {
                 float got = img[p * (size_t)nc + (size_t)ch];
-                bad_value += t >= 0 ? !within_contract(got, val[ch], scale[ch]) : got != (float)bg[ch];
+                bad_value += t < 0 ? got != (float)bg[ch]
+                             : exact ? got != (float)val[ch] : !within_contract(got, val[ch], scale[ch]);
             }
         }
     CHECK_MSG(bad_owner == 0, "%d pixels owned differently from tc_locate", bad_owner);
-    CHECK_MSG(bad_value == 0, "%d pixel values differ from tc_eval_points", bad_value);
+    CHECK_MSG(bad_value == 0, "%d pixel values differ from tc_eval_points%s", bad_value, exact ? " (exactly)" : "");
     free(img), free(own);
+}
+
+static void check_tile(const scene *s, const tc_viewport *vp, int threads) {
+    check_tile_as(s, vp, threads, 0);
 }
 
 /* Pixel centres on vertices and edges: a 12x12 grid (jittered off the straight
@@ -155,6 +161,28 @@ TEST(raster_portable_build_same_bits) {
     CHECK_MSG(memcmp(a, b, n * sizeof *a) == 0, "the portable build renders other bits than the AVX2 one");
     check_tile(&s, &vp, 1);
     free(a), free(b);
+    scene_free(&s);
+}
+
+/* Where fma is not an instruction of the row loop (raster.c fast_form_here: an x86 CPU without
+ * AVX2 and FMA, where libm's fma is software), no triangle takes the fast form: every pixel is
+ * then tc_eval_points' double rounded to float, bit for bit, with either build of the exact span. */
+TEST(raster_exact_without_inline_fma) {
+    scene s;
+    scene_init(&s, 9, 0.25, 3, tc_test_seed() + 29);
+    if (!s.r) return;
+    tc_viewport vp = {-0.07, -0.03, 1.05, 1.01, 83, 71}, part = {0.3, 0.41, 0.52, 0.6, 40, 33};
+    tc__raster_force_generic(1); /* the fast form's portable build: it serves these triangles */
+    check_tile(&s, &vp, 2);
+    CHECK(tc__raster_fast_setups() > 0);
+    tc__raster_force_generic(2);
+    check_tile_as(&s, &vp, 2, 1);
+    check_tile_as(&s, &part, 1, 1);
+    tc__ct_span_force_generic(1);
+    check_tile_as(&s, &vp, 3, 1);
+    tc__ct_span_force_generic(0);
+    CHECK_MSG(tc__raster_fast_setups() == 0, "%ld triangles in the fast form", tc__raster_fast_setups());
+    tc__raster_force_generic(0);
     scene_free(&s);
 }
 
