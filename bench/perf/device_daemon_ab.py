@@ -5,7 +5,8 @@
 DIR (the script's own folder, carried to the machine) holds tocherd and base/tocherd built on the
 development machine, lib/ with the shared libraries they need there (libmicrohttpd and its TLS
 stack, libcjson, libhiredis, libzstd: `ldd build/tocherd`), and bench/perf/meshes.py's grid64.json.
-Each daemon runs with --render-threads 16 and 1, grid64 POSTed to each once as a stored mesh;
+Each daemon runs with --render-threads 16 and 1 (THREADS=2,1 in the environment: other counts,
+as on the 2-core development machine), grid64 POSTed to each once as a stored mesh;
 each round renders /v1/meshes/{id}/render raw at 4096² and 1024² on every daemon in turn. A line:
 the wall time as the client sees it (64 MiB through loopback for 4096²) and the daemon's
 Server-Timing (evaluate: the raster with its band buffers; encode: the answer's bytes)."""
@@ -27,7 +28,7 @@ def start(binary, threads):
 mesh = open(os.path.join(D, "grid64.json"), "rb").read()
 daemons = {}
 for name, b in (("base", os.path.join(D, "base", "tocherd")), ("new", os.path.join(D, "tocherd"))):
-    for th in (16, 1):
+    for th in [int(t) for t in os.environ.get("THREADS", "16,1").split(",")]:
         proc, p = start(b, th)
         c = http.client.HTTPConnection("127.0.0.1", p)
         c.request("POST", "/v1/meshes", mesh, {"Content-Type": "application/json"})
