@@ -1,10 +1,8 @@
 /* server.c — the listening daemon: address resolution, the libmicrohttpd
  * options (thread pool, limits, timeouts, callbacks), quiesce and stop. */
-#define _DEFAULT_SOURCE /* SO_ATTACH_FILTER */
 #include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <linux/filter.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -16,6 +14,7 @@
 #include <unistd.h>
 
 #include "server/conns.h"
+#include "server/drain.h"
 #include "server/http.h"
 #include "server/log.h"
 #include "server/metrics.h"
@@ -147,26 +146,6 @@ static void take_backlog(tc_server *s) {
     }
 }
 
-/* While the listen socket drains, a filter drops every connection's first packet (a SYN without
- * ACK: the TCP flags, byte 13 of the header a TCP socket's filter sees) and keeps all others, so
- * no new connection joins its queue (the client's connect is retried, then refused once the
- * socket is shut), while handshakes already under way complete (their ACKs pass) and are taken.
- * Without it, a connection the kernel completed after take_backlog's last accept was reset by
- * the shutdown with its request sent (1 request in 6584 of test_daemon_load's SIGTERM rounds
- * once). A child socket keeps its listener's filter from its birth: it never sees a bare SYN. */
-static void refuse_new(const tc_server *s) {
-    struct sock_filter syn_only[] = {
-        BPF_STMT(BPF_LD | BPF_B | BPF_ABS, 13),          /* the flags */
-        BPF_STMT(BPF_ALU | BPF_AND | BPF_K, 0x12),       /* SYN, ACK */
-        BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, 0x02, 0, 1), /* a SYN alone: */
-        BPF_STMT(BPF_RET | BPF_K, 0),                    /* dropped */
-        BPF_STMT(BPF_RET | BPF_K, 0xffffffffu),          /* the rest kept whole */
-    };
-    struct sock_fprog prog = {(unsigned short)(sizeof syn_only / sizeof syn_only[0]), syn_only};
-    if (setsockopt(s->quiesced, SOL_SOCKET, SO_ATTACH_FILTER, &prog, sizeof prog) != 0)
-        tc_log_notice("draining: new connections may still queue until the socket is shut (%s)", strerror(errno));
-}
-
 /* How long handshakes under way may take to complete once new ones are dropped: many round
  * trips on loopback or a LAN (a proxy in front), a short pause of a stop that waits for the
  * requests in flight anyway. */
@@ -176,7 +155,12 @@ void tc_server_quiesce(tc_server *s) {
     atomic_store(&s->state.draining, 1);
     s->quiesced = MHD_quiesce_daemon(s->d);
     if (s->quiesced == MHD_INVALID_SOCKET) return;
-    refuse_new(s);
+    /* No new connection joins the queue from here (drain.h), so the queue can be emptied for
+     * good: what is there now, then what the handshakes under way add in the grace. Without
+     * it, a connection the kernel completed after the last accept was reset by the shutdown
+     * with its request sent (1 request in 6584 of test_daemon_load's SIGTERM rounds, once). */
+    if (tc_drain_refuse_new(s->quiesced) != 0)
+        tc_log_notice("draining: new connections may still queue until the socket is shut (%s)", strerror(errno));
     take_backlog(s);
     struct timespec grace = {0, HANDSHAKE_GRACE_NS};
     while (nanosleep(&grace, &grace) != 0 && errno == EINTR) {
