@@ -42,7 +42,8 @@ typedef struct {
     int32_t row0, rows; /* the rows rendered: [row0, row0 + rows) of vp, stored from values/owner's row 0 */
     int grain_lo, grain_hi; /* every centre of xs and ys a multiple of 2^grain_lo, below 2^grain_hi in magnitude */
     int nc;              /* r->m->nc: read once, not behind two pointers in every four pixels */
-    double per_x;        /* vp->width / (vp->x1 - vp->x0): pixels per unit along a row (row guesses only) */
+    double per_x;        /* vp->width / (vp->x1 - vp->x0): pixels per unit along a row (guesses only) */
+    double per_y;        /* vp->height / (vp->y1 - vp->y0): pixels per unit down a column (likewise) */
     int fast_form;       /* fast_form_here(), read once */
     int threads;            /* the workers taking bands (band_size) */
     atomic_int next_row;    /* the first row no worker has taken, from row0 */
@@ -74,12 +75,23 @@ static inline int32_t *own_row(const band *bd, int32_t j) {
 /* Pixel index range [lo, hi] whose centres may fall in [a, b] along an axis of
  * n pixels starting at origin with the given step (widened by one pixel on each
  * side: the exact test below decides, this only has to be a superset). */
-static void pixel_range(double a, double b, double origin, double step, int32_t n, int32_t *lo, int32_t *hi) {
-    /* Divided, not multiplied by pixels per unit: that overflows for a subnormal step. */
-    double fa = (a - origin) / step - 0.5, fb = (b - origin) / step - 0.5;
-    double l = floor(fa < fb ? fa : fb) - 1, h = ceil(fa > fb ? fa : fb) + 1; /* fmin, fmax: calls */
+static void pixel_range(double a, double b, double origin, double step, double per, int32_t n, int32_t *lo,
+                        int32_t *hi) {
+    /* Multiplied by the pixels per unit where that is finite (a division costs several
+     * multiplications, and a tile of small triangles does this for every one), else divided:
+     * per overflows for a subnormal step. */
+    double fa, fb;
+    if (per < INFINITY) fa = (a - origin) * per - 0.5, fb = (b - origin) * per - 0.5;
+    else fa = (a - origin) / step - 0.5, fb = (b - origin) / step - 0.5;
+    /* floor(least - 1) and ceil(most + 1), clamped, by the conversion's truncation (floor's and
+     * ceil's inline code, with the divisions, made this function 14% of a dense tile's time): l
+     * is converted only when >= 0, where truncation is floor, and h only above -1, where
+     * c + (c < h) is ceil. Adding or taking the 1 rounds by at most half an ulp of a number
+     * below 2^31 where it is converted, so each side keeps its pixel of margin but ~2^-22. */
+    double l = (fa < fb ? fa : fb) - 1, h = (fa > fb ? fa : fb) + 1; /* fmin, fmax: calls */
     *lo = !(l >= 0) ? 0 : l >= n ? n : (int32_t)l; /* NaN (never from finite input): the whole range */
-    *hi = !(h < n) ? n - 1 : h < 0 ? -1 : (int32_t)h;
+    int32_t c = !(h <= n - 1) || h <= -1 ? 0 : (int32_t)h;
+    *hi = !(h <= n - 1) ? n - 1 : h <= -1 ? -1 : c + (c < h);
 }
 
 /* Owner encoding while a band is rasterized: -1 none, t >= 0 strict owner,
@@ -685,10 +697,9 @@ static void sort_hull(tri *tr) {
     tr->hs[2] = (tr->hx[2] - tr->hx[1]) / (tr->hy[2] - tr->hy[1]);
 }
 
-/* Everything the rows of triangle s read, set once per triangle and band. The fast form
- * costs ~30 operations per channel to set up: not worth it for a triangle whose box covers
- * fewer than 16 pixels of the tile (a 524k mesh on a 1024² tile). */
-static void tri_setup(const job *jb, const struct tc__slot *s, int64_t box, tri *tr) {
+/* Everything the rows of triangle s read, set once per triangle and band (a triangle with
+ * few centres takes cover_few instead). */
+static void tri_setup(const job *jb, const struct tc__slot *s, tri *tr) {
     tr->s = s;
     for (int k = 0; k < 3; k++) {
         tr->dy[k] = s->y[k == 2 ? 0 : k + 1] - s->y[k];
@@ -700,7 +711,7 @@ static void tri_setup(const job *jb, const struct tc__slot *s, int64_t box, tri 
         tr->low[ch] = (v4f){lo, lo, lo, lo};
     }
     frame_from_slot(jb->r->m, s, &tr->f);
-    tr->fast = jb->fast_form && jb->r->eval == tc__ct_eval && box >= 16 && fast_shape(&tr->f);
+    tr->fast = jb->fast_form && jb->r->eval == tc__ct_eval && fast_shape(&tr->f);
     if (force_generic && tr->fast) atomic_fetch_add(&fast_setups, 1);
     if (!tr->fast) {
         tc__frame_rest(&tr->f); /* the exact evaluation's whole frame, tc__frame's */
@@ -709,6 +720,52 @@ static void tri_setup(const job *jb, const struct tc__slot *s, int64_t box, tri 
     }
     sort_hull(tr);
     tc__ct_fast_prepare(&tr->f, jb->r->coef + (size_t)s->t * (size_t)jb->nc * (size_t)jb->r->ncoef, jb->nc, &tr->ff);
+}
+
+/* A triangle takes cover_few when its box covers fewer than FEW_BOX pixels of the tile, or its
+ * area is under FEW_AREA pixels and its box under FEW_AREA_BOX (a long sliver's box can be large
+ * and nearly empty: its rows go through the hull's guess). The fast form costs ~30 operations
+ * per channel to set up and each row's guess and runs more: a 256² tile of 131k triangles
+ * (grid256, half a pixel each) rendered 1.5x as fast this way, of 200k (del1e5) 1.6x; tiles of
+ * 3 pixels a triangle and more unchanged (bench/perf/notes.md, eleventh round). */
+#define FEW_BOX 16
+#define FEW_AREA 1.0
+#define FEW_AREA_BOX 64
+
+/* Whether the triangle goes through cover_few: box is its pixel box on the tile (not the
+ * band: a pixel must not depend on how the tile is cut into bands). */
+static int few_centres(const job *jb, const struct tc__slot *s, int64_t box) {
+    if (box < FEW_BOX) return 1;
+    if (box >= FEW_AREA_BOX) return 0;
+    double ax = s->x[1] - s->x[0], ay = s->y[1] - s->y[0], bx = s->x[2] - s->x[0], by = s->y[2] - s->y[0];
+    return 0.5 * fabs(ax * by - ay * bx) * jb->per_x * jb->per_y < FEW_AREA; /* NaN or inf: no */
+}
+
+/* Rows [j0, j1] and columns [i0, i1] of a triangle with few centres: each centre within
+ * the closed box [xmin, xmax] x [ymin, ymax] (no other can be in the closed triangle)
+ * classified exactly, as classify_one does for the rows, and each owned one shaded exactly
+ * (tc__ct_span: tc_eval_points' bits), the frame made at the first. Most triangles of a tile
+ * denser than its pixels own no centre and cost no more than the tests. */
+static void cover_few(const band *bd, const struct tc__slot *s, const double box[4], int32_t i0, int32_t i1,
+                      int32_t j0, int32_t j1) {
+    const job *jb = bd->jb;
+    while (i0 <= i1 && !(jb->xs[i0] >= box[0])) i0++; /* centres non-decreasing along a row */
+    while (i1 >= i0 && !(jb->xs[i1] <= box[1])) i1--;
+    if (i0 > i1) return;
+    tri tr; /* shade_run reads only f and fast; not zeroed whole: the fast form is ~1 KB */
+    tr.s = s, tr.fast = 0;
+    int framed = 0;
+    for (int32_t j = j0; j <= j1; j++) {
+        double y = jb->ys[j - jb->row0], l[3];
+        if (!(y >= box[2] && y <= box[3])) continue;
+        for (int k = 0; k < 3; k++) l[k] = (s->x[k == 2 ? 0 : k + 1] - s->x[k]) * (y - s->y[k]);
+        float *row = jb->values + (size_t)(j - jb->row0) * (size_t)jb->vp->width * (size_t)jb->nc;
+        for (int32_t i = i0; i <= i1; i++) {
+            if (classify_one(bd, s, l, i, j, y) != TC_SLOT_OWN) continue;
+            if (!framed) frame_from_slot(jb->r->m, s, &tr.f), tc__frame_rest(&tr.f), framed = 1;
+            shade_run(jb, &tr, s->t, jb->xs + i, y, 1, row + (size_t)i * (size_t)jb->nc);
+        }
+    }
 }
 
 static void cover(void *ctx, const struct tc__slot *s) {
@@ -722,16 +779,20 @@ static void cover(void *ctx, const struct tc__slot *s) {
      * locator gives this band only for its neighbour's rows (the test below, made early). */
     if (jb->ys[bd->j0 - jb->row0] < ymin || jb->ys[bd->j1 - 1 - jb->row0] > ymax) return;
     int32_t i0, i1, j0, j1;
-    pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, vp->width, &i0, &i1);
+    pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, jb->per_x, vp->width, &i0, &i1);
     /* Rows count downwards from y1. */
-    pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, vp->height, &j0, &j1);
-    /* The box that decides the fast form (tri_setup), judged on the tile's rows, not the
-     * band's: a pixel must not depend on how the tile is cut into bands
+    pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, jb->per_y, vp->height, &j0, &j1);
+    /* The box that decides the path (few_centres, and with it the fast form), judged on the
+     * tile's rows, not the band's: a pixel must not depend on how the tile is cut into bands
      * (tc_render_options.row0/rows, BAND_ROWS). */
     int64_t box = (int64_t)(i1 - i0 + 1) * (int64_t)(j1 - j0 + 1);
     if (j0 < bd->j0) j0 = bd->j0;
     if (j1 > bd->j1 - 1) j1 = bd->j1 - 1;
     if (i0 > i1 || j0 > j1) return;
+    if (few_centres(jb, s, box)) {
+        cover_few(bd, s, (const double[4]){xmin, xmax, ymin, ymax}, i0, i1, j0, j1);
+        return;
+    }
     /* The rows are widened by a pixel for rounding: a band often gets a triangle that
      * only its neighbour's rows cross. No centre y within [ymin, ymax] (exact
      * comparisons): no row of this band meets the closed triangle, so nothing to set up. */
@@ -739,7 +800,7 @@ static void cover(void *ctx, const struct tc__slot *s) {
     while (jm <= j1 && !(jb->ys[jm - jb->row0] >= ymin && jb->ys[jm - jb->row0] <= ymax)) jm++;
     if (jm > j1) return;
     tri tr;
-    tri_setup(jb, s, box, &tr);
+    tri_setup(jb, s, &tr);
     if (!force_generic && cpu_avx2_fma()) cover_rows_avx2(bd, &tr, j0, j1, i0, i1);
     else cover_rows_generic(bd, &tr, j0, j1, i0, i1);
 }
@@ -945,8 +1006,10 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     for (int32_t j = 0; j < rows; j++) widen_grain(ys[j], &grain_lo, &grain_hi);
     /* beyond FLT_MAX: infinity, which no sample reaches (the tile stops at +-FLT_MAX); NaN: none */
     float limit = ropt->limit > FLT_MAX ? INFINITY : ropt->limit > 0 ? (float)ropt->limit : 0;
-    job jb = {r,        L,         vp,       ropt, values, owner, xs, ys, ropt->row0, rows, grain_lo, grain_hi,
-              r->m->nc, vp->width / (vp->x1 - vp->x0), fast_form_here(), 1, 0, limit, 0, 0, 0};
+    job jb = {.r = r, .L = L, .vp = vp, .ropt = ropt, .values = values, .owner = owner, .xs = xs, .ys = ys,
+              .row0 = ropt->row0, .rows = rows, .grain_lo = grain_lo, .grain_hi = grain_hi, .nc = r->m->nc,
+              .per_x = vp->width / (vp->x1 - vp->x0), .per_y = vp->height / (vp->y1 - vp->y0),
+              .fast_form = fast_form_here(), .threads = 1, .limit = limit};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     if (ropt->limited) *ropt->limited += atomic_load(&jb.limited);
     tc__free(xs), tc__free(ys);

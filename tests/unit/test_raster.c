@@ -634,6 +634,62 @@ TEST(raster_runs_on_lattice_edges) {
     }
 }
 
+/* Tiles denser than their pixels (raster.c's cover_few: a triangle under a pixel of area, or
+ * whose box covers under 16 pixels, has its few centres classified and shaded exactly, and no
+ * fast form set up): every owner tc_locate's and every value tc_eval_points' bit for bit, with
+ * centres on the mesh's vertices and edges (a dyadic grid, the centres on its lattice, half of
+ * the tiles with a column and a row of centres on its outer boundary, owned in the closed sense
+ * only) and off them (jittered grids, some flipped), on 1 and 3 threads, and the same bytes in
+ * bands of 5 rows. */
+TEST(raster_triangles_under_a_pixel_exact) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 34);
+    for (int k = 0; k < 8; k++) {
+        scene s;
+        int lattice = k < 4, n = lattice ? 32 : 20 + 7 * (k % 4);
+        tmesh_grid(&s.g, n, n, lattice ? 0 : 0.3, k % 3 == 2 ? -1 : k % 3, &rng);
+        if (k >= 6) tmesh_delaunay_flips(&s.g);
+        tmesh_sample(&s.g, 2, smooth_f, NULL, 1, 0, 0);
+        if (!scene_build(&s)) {
+            scene_free(&s);
+            continue;
+        }
+        /* lattice: centres (2i + 1) / 32 or (4i + 2) / 32 on the grid's vertices, or (k = 2, 3)
+         * i / 16 and i / 8, x = 0 and y = 0 among them; else pixels of ~2.3 cells, every
+         * triangle well under a pixel of area */
+        int w = lattice ? 16 >> (k % 2) : n / 2;
+        double h = k < 2 ? 0 : 0.5 / w;
+        tc_viewport vp = lattice ? (tc_viewport){-h, -h, 1 - h, 1 - h, w, w}
+                                 : (tc_viewport){-0.1, -0.05, 1.05, 1.1, w, w - 1};
+        double cx, cy;
+        tc_viewport_pixel_center(&vp, 3, 2, &cx, &cy);
+        if (lattice) CHECK(cx * 32 == floor(cx * 32) && cy * 32 == floor(cy * 32));
+        if (k >= 2 && lattice) {
+            tc_viewport_pixel_center(&vp, 0, w - 1, &cx, &cy);
+            CHECK(cx == 0 && cy == 0);
+        }
+        tc__raster_force_generic(1); /* counts the triangles set up in the fast form */
+        check_tile_as(&s, &vp, 1 + 2 * (k % 2), 1);
+        CHECK_MSG(tc__raster_fast_setups() == 0, "mesh %d: %ld triangles under a pixel set up in the fast form", k,
+                  tc__raster_fast_setups());
+        tc__raster_force_generic(0);
+        size_t np = (size_t)vp.width * (size_t)vp.height;
+        float *a = malloc(np * 2 * sizeof *a), *b = malloc(np * 2 * sizeof *b);
+        int32_t *oa = malloc(np * sizeof *oa), *ob = malloc(np * sizeof *ob);
+        tc_render_options o = {.threads = 2};
+        CHECK(tc_render(s.r, s.L, &vp, &o, a, oa) == TC_OK);
+        for (int32_t y = 0; y < vp.height; y += 5) {
+            o.row0 = y, o.rows = vp.height - y < 5 ? vp.height - y : 5;
+            size_t at = (size_t)y * (size_t)vp.width;
+            CHECK(tc_render(s.r, s.L, &vp, &o, b + 2 * at, ob + at) == TC_OK);
+        }
+        CHECK_MSG(memcmp(a, b, np * 2 * sizeof *a) == 0 && memcmp(oa, ob, np * sizeof *oa) == 0,
+                  "mesh %d: bands of 5 rows differ from the whole tile", k);
+        free(a), free(b), free(oa), free(ob);
+        scene_free(&s);
+    }
+}
+
 /* tc_eval_points visits large batches in Z order: every result must still be
  * the one tc_locate + tc_eval_triangle give for that point, bit for bit,
  * including points outside the mesh and duplicated points. */
