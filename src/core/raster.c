@@ -90,8 +90,14 @@ static void pixel_range(double a, double b, double origin, double step, double p
      * below 2^31 where it is converted, so each side keeps its pixel of margin but ~2^-22. */
     double l = (fa < fb ? fa : fb) - 1, h = (fa > fb ? fa : fb) + 1; /* fmin, fmax: calls */
     *lo = !(l >= 0) ? 0 : l >= n ? n : (int32_t)l; /* NaN (never from finite input): the whole range */
-    int32_t c = !(h <= n - 1) || h <= -1 ? 0 : (int32_t)h;
-    *hi = !(h <= n - 1) ? n - 1 : h <= -1 ? -1 : c + (c < h);
+    if (!(h <= n - 1)) {
+        *hi = n - 1;
+    } else if (h <= -1) {
+        *hi = -1;
+    } else {
+        int32_t c = (int32_t)h;
+        *hi = c + (c < h);
+    }
 }
 
 /* Owner encoding while a band is rasterized: -1 none, t >= 0 strict owner,
