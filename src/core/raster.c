@@ -324,6 +324,12 @@ static int lattice_exact(const job *jb, const struct tc__slot *s) {
     return lo >= -500 && hi <= 500 && hi - lo <= 25;
 }
 
+/* The row's half of each edge's orientation at row y, as orient_sign computes it:
+ * l[k] = (x[k+1] - x[k]) (y - y[k]), what edge_sign and the lanes take from the row. */
+static inline void row_terms(const struct tc__slot *s, double y, double l[3]) {
+    for (int k = 0; k < 3; k++) l[k] = (s->x[k == 2 ? 0 : k + 1] - s->x[k]) * (y - s->y[k]);
+}
+
 /* The sign (-1, 0, 1) of edge k's orientation at (x, y), computed as orient_sign
  * computes it: certified by its bound, or else exact because nothing rounded
  * (each difference checked by TwoSum, each product by fma, the difference of
@@ -600,10 +606,7 @@ TC__V4_INLINE void cover_row_body(const band *bd, const tri *tr, int32_t j, int3
     const struct tc__slot *s = tr->s;
     double y = jb->ys[j - jb->row0], xl, xr, per_x = jb->per_x, l[3];
     if (!row_hull(tr, y, &xl, &xr)) return;
-    for (int k = 0; k < 3; k++) {
-        int n = k == 2 ? 0 : k + 1;
-        l[k] = (s->x[n] - s->x[k]) * (y - s->y[k]);
-    }
+    row_terms(s, y, l);
     /* A guess, biased a little outward: a centre the edge runs through (a grid's
      * diagonal) falls inside [lo, hi], the pixel beyond it outside, as guessed_run wants. */
     double fa = floor((xl - vp->x0) * per_x - (0.5 + 0x1p-8)), fb = ceil((xr - vp->x0) * per_x - (0.5 - 0x1p-8));
@@ -743,8 +746,8 @@ static void tri_setup(const job *jb, const struct tc__slot *s, tri *tr) {
 static int few_centres(const job *jb, const struct tc__slot *s, int64_t box) {
     if (box < FEW_BOX) return 1;
     if (box >= FEW_AREA_BOX) return 0;
-    double ax = s->x[1] - s->x[0], ay = s->y[1] - s->y[0], bx = s->x[2] - s->x[0], by = s->y[2] - s->y[0];
-    return 0.5 * fabs(ax * by - ay * bx) * jb->per_x * jb->per_y < FEW_AREA; /* NaN or inf: no */
+    const double a[2] = {s->x[1] - s->x[0], s->y[1] - s->y[0]}, b[2] = {s->x[2] - s->x[0], s->y[2] - s->y[0]};
+    return 0.5 * fabs(tc__cross(a, b)) * jb->per_x * jb->per_y < FEW_AREA; /* NaN or inf: no */
 }
 
 /* Rows [j0, j1] and columns [i0, i1] of a triangle with few centres: each centre within
@@ -764,7 +767,7 @@ static void cover_few(const band *bd, const struct tc__slot *s, const double box
     for (int32_t j = j0; j <= j1; j++) {
         double y = jb->ys[j - jb->row0], l[3];
         if (!(y >= box[2] && y <= box[3])) continue;
-        for (int k = 0; k < 3; k++) l[k] = (s->x[k == 2 ? 0 : k + 1] - s->x[k]) * (y - s->y[k]);
+        row_terms(s, y, l);
         float *row = jb->values + (size_t)(j - jb->row0) * (size_t)jb->vp->width * (size_t)jb->nc;
         for (int32_t i = i0; i <= i1; i++) {
             if (classify_one(bd, s, l, i, j, y) != TC_SLOT_OWN) continue;
