@@ -418,7 +418,7 @@ double tc_now_ms(void);
 
 /* Renders r over vp into values[height][width][C] (each pixel the double that
  * tc_eval_points gives at its centre — for the Clough-Tocher cubic on a triangle
- * of aspect <= 64 and at least a pixel of area, a double within 1e-12 of the channel's
+ * of aspect <= 64 and at least four pixels of area, a double within 1e-12 of the channel's
  * data scale of it, from the renderer's fast form, where fused multiply-add is an
  * instruction (x86-64 with AVX2 and FMA, aarch64; elsewhere that double itself) — rounded once to float; beyond the float
  * range, +-FLT_MAX: never an infinity) and, if owner is

@@ -11,6 +11,7 @@
 #include "core/alloc.h"
 #include "core/ct.h"
 #include "core/ct_fast.h"
+#include "core/ct_points.h"
 #include "core/geom.h"
 #include "core/locate.h"
 #include "core/mesh.h"
@@ -58,14 +59,30 @@ typedef struct {
  * waiting on it), so each is prefetched PREFETCH_AHEAD triangles before its turn. */
 #define PREFETCH_AHEAD 4
 
+/* Pixels that triangles with few centres own (cover_few), waiting to be shaded exactly four at
+ * a time, each lane its own triangle (tc__ct_points4: tc_eval_triangle's arithmetic lane for
+ * lane): a tile denser than its pixels has about one such pixel per triangle, which alone would
+ * fill one lane of four. Entry k: its lane (frame in f[k] or an earlier entry's of the same
+ * triangle, values into v) and where its floats go. */
+#define QUEUE 32
+typedef struct {
+    tc__eval_frame f[QUEUE];
+    tc__ct_lane lane[QUEUE];
+    float *out[QUEUE];
+    double v[QUEUE * TC_MAX_CHANNELS];
+    int n;
+} shade_queue;
+
 /* The band being rasterized: rows [j0, j1), their owners from own (row j0); the triangles
- * the locator gave and cover has not yet taken, in order (held[(first + k) % AHEAD]). */
+ * the locator gave and cover has not yet taken, in order (held[(first + k) % AHEAD]); the
+ * pixels waiting for their values (q: NULL unless the method is the cubic). */
 typedef struct {
     const job *jb;
     int32_t j0, j1;
     int32_t *own;
     const struct tc__slot *held[PREFETCH_AHEAD];
     int first, nheld;
+    shade_queue *q;
 } band;
 
 static inline int32_t *own_row(const band *bd, int32_t j) {
@@ -735,10 +752,12 @@ static void tri_setup(const job *jb, const struct tc__slot *s, tri *tr) {
  * area is under FEW_AREA pixels and its box under FEW_AREA_BOX (a long sliver's box can be large
  * and nearly empty: its rows go through the hull's guess). The fast form costs ~30 operations
  * per channel to set up and each row's guess and runs more: a 256² tile of 131k triangles
- * (grid256, half a pixel each) rendered 1.5x as fast this way, of 200k (del1e5) 1.6x; tiles of
- * 3 pixels a triangle and more unchanged (bench/perf/notes.md, eleventh round). */
+ * (grid256, half a pixel each) rendered 1.5x as fast this way, of 200k (del1e5) 1.6x (eleventh
+ * round of bench/perf/notes.md). Since the owned centres are shaded four at a time
+ * (shade_queue), triangles of 2 pixels go faster this way too (1.14-1.17x; twelfth round);
+ * areas of 3 or 4 pixels as the bound were alike, 6 and 8 slower. */
 #define FEW_BOX 16
-#define FEW_AREA 1.0
+#define FEW_AREA 4.0
 #define FEW_AREA_BOX 64
 
 /* Whether the triangle goes through cover_few: box is its pixel box on the tile (not the
@@ -750,11 +769,44 @@ static int few_centres(const job *jb, const struct tc__slot *s, int64_t box) {
     return 0.5 * fabs(tc__cross(a, b)) * jb->per_x * jb->per_y < FEW_AREA; /* NaN or inf: no */
 }
 
+/* The queued pixels' values, as shade_run stores the exact path's (tile_float, then tc__floored
+ * on the float: floor0 is not passed to tc__ct_points4, whose doubles would be floored first). */
+static void flush_queue(const job *jb, shade_queue *q) {
+    static const uint8_t no_floor[TC_MAX_CHANNELS];
+    int nc = jb->nc;
+    for (int k = 0; k < q->n; k += 4) {
+        tc__ct_lane lane[4];
+        for (int l = 0; l < 4; l++) lane[l] = q->lane[k + l < q->n ? k + l : q->n - 1]; /* repeats: the same values */
+        tc__ct_points4(lane, nc, no_floor);
+    }
+    for (int k = 0; k < q->n; k++)
+        for (int ch = 0; ch < nc; ch++) {
+            float f = (float)q->v[k * nc + ch];
+            if (isinf(f)) f = copysignf(FLT_MAX, f);
+            q->out[k][ch] = jb->r->floor0[ch] && f < 0 ? 0 : f;
+        }
+    q->n = 0;
+}
+
+/* The pixel centred at (x, y) that s owns, its floats at out: queued for flush_queue. *fk is the
+ * entry holding s's frame, or -1 when none does yet (a flush empties the queue, frames with it). */
+static void queue_pixel(const band *bd, const struct tc__slot *s, double x, double y, float *out, int *fk) {
+    const job *jb = bd->jb;
+    shade_queue *q = bd->q;
+    if (q->n == QUEUE) flush_queue(jb, q), *fk = -1;
+    int k = q->n++;
+    if (*fk < 0) *fk = k, frame_from_slot(jb->r->m, s, &q->f[k]), tc__frame_rest(&q->f[k]);
+    q->lane[k] = (tc__ct_lane){&q->f[*fk], jb->r->coef + (size_t)s->t * (size_t)jb->nc * TC_CT_ORDINATES, x, y,
+                               q->v + (size_t)k * (size_t)jb->nc, NULL};
+    q->out[k] = out;
+}
+
 /* Rows [j0, j1] and columns [i0, i1] of a triangle with few centres: each centre within
  * the closed box [xmin, xmax] x [ymin, ymax] (no other can be in the closed triangle)
  * classified exactly, as classify_one does for the rows, and each owned one shaded exactly
- * (tc__ct_span: tc_eval_points' bits), the frame made at the first. Most triangles of a tile
- * denser than its pixels own no centre and cost no more than the tests. */
+ * (tc_eval_points' bits): queued for four lanes across triangles (the cubic), or at once
+ * (shade_run: the other methods), the frame made at the first. Most triangles of a tile denser
+ * than its pixels own no centre and cost no more than the tests. */
 static void cover_few(const band *bd, const struct tc__slot *s, const double box[4], int32_t i0, int32_t i1,
                       int32_t j0, int32_t j1) {
     const job *jb = bd->jb;
@@ -763,7 +815,7 @@ static void cover_few(const band *bd, const struct tc__slot *s, const double box
     if (i0 > i1) return;
     tri tr; /* shade_run reads only f and fast; not zeroed whole: the fast form is ~1 KB */
     tr.s = s, tr.fast = 0;
-    int framed = 0;
+    int framed = 0, fk = -1;
     for (int32_t j = j0; j <= j1; j++) {
         double y = jb->ys[j - jb->row0], l[3];
         if (!(y >= box[2] && y <= box[3])) continue;
@@ -771,6 +823,10 @@ static void cover_few(const band *bd, const struct tc__slot *s, const double box
         float *row = jb->values + (size_t)(j - jb->row0) * (size_t)jb->vp->width * (size_t)jb->nc;
         for (int32_t i = i0; i <= i1; i++) {
             if (classify_one(bd, s, l, i, j, y) != TC_SLOT_OWN) continue;
+            if (bd->q) {
+                queue_pixel(bd, s, jb->xs[i], y, row + (size_t)i * (size_t)jb->nc, &fk);
+                continue;
+            }
             if (!framed) frame_from_slot(jb->r->m, s, &tr.f), tc__frame_rest(&tr.f), framed = 1;
             shade_run(jb, &tr, s->t, jb->xs + i, y, 1, row + (size_t)i * (size_t)jb->nc);
         }
@@ -911,7 +967,10 @@ static void limit_band(job *jb, int32_t j0, int32_t j1) {
  * memory outside the cache, when the caller does not want them). */
 static void render_band(job *jb, int32_t j0, int32_t j1, int32_t *scratch) {
     const tc_viewport *vp = jb->vp;
-    band bd = {jb, j0, j1, scratch, {NULL}, 0, 0};
+    shade_queue q; /* ~12 KB of stack: no thread here is started with less than the default */
+    q.n = 0;
+    int queued = jb->r->eval == tc__ct_eval && jb->r->ncoef == TC_CT_ORDINATES;
+    band bd = {jb, j0, j1, scratch, {NULL}, 0, 0, queued ? &q : NULL};
     if (jb->owner) bd.own = jb->owner + (size_t)(bd.j0 - jb->row0) * (size_t)vp->width;
     memset(bd.own, 0xff, (size_t)(bd.j1 - bd.j0) * (size_t)vp->width * sizeof *bd.own); /* all -1 */
     double xa, ya, xb, yb, lo[2], hi[2];
@@ -920,6 +979,7 @@ static void render_band(job *jb, int32_t j0, int32_t j1, int32_t *scratch) {
     lo[0] = tc__fmin(xa, xb), hi[0] = tc__fmax(xa, xb), lo[1] = tc__fmin(ya, yb), hi[1] = tc__fmax(ya, yb);
     tc__locator_query_box(jb->L, lo, hi, cover_later, &bd);
     for (; bd.nheld > 0; bd.nheld--, bd.first = (bd.first + 1) % PREFETCH_AHEAD) cover(&bd, bd.held[bd.first]);
+    if (bd.q) flush_queue(jb, bd.q);
     settle_band(&bd);
     limit_band(jb, j0, j1); /* while the band is in cache */
 }

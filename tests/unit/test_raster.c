@@ -9,6 +9,7 @@
 #include "core/ct.h"
 #include "core/ct_fast.h"
 #include "core/eval.h"
+#include "core/recon.h"
 #include "meshgen.h"
 #include "props.h"
 
@@ -634,19 +635,20 @@ TEST(raster_runs_on_lattice_edges) {
     }
 }
 
-/* Tiles denser than their pixels (raster.c's cover_few: a triangle under a pixel of area, or
+/* Tiles denser than their pixels (raster.c's cover_few: a triangle under four pixels of area, or
  * whose box covers under 16 pixels, has its few centres classified and shaded exactly, and no
  * fast form set up): every owner tc_locate's and every value tc_eval_points' bit for bit, with
  * centres on the mesh's vertices and edges (a dyadic grid, the centres on its lattice, half of
  * the tiles with a column and a row of centres on its outer boundary, owned in the closed sense
  * only) and off them (jittered grids, some flipped), on 1 and 3 threads, and the same bytes in
- * bands of 5 rows. */
-TEST(raster_triangles_under_a_pixel_exact) {
+ * bands of 5 rows. Two channels, one of them floored (negative values clamped to 0); their
+ * pixels are shaded four at a time across triangles (raster.c's shade_queue), 32 to a batch. */
+TEST(raster_triangles_under_four_pixels_exact) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 34);
-    for (int k = 0; k < 8; k++) {
+    for (int k = 0; k < 10; k++) {
         scene s;
-        int lattice = k < 4, n = lattice ? 32 : 20 + 7 * (k % 4);
+        int lattice = k < 4, n = lattice ? 32 : k < 8 ? 20 + 7 * (k % 4) : 40;
         tmesh_grid(&s.g, n, n, lattice ? 0 : 0.3, k % 3 == 2 ? -1 : k % 3, &rng);
         if (k >= 6) tmesh_delaunay_flips(&s.g);
         tmesh_sample(&s.g, 2, smooth_f, NULL, 1, 0, 0);
@@ -654,10 +656,13 @@ TEST(raster_triangles_under_a_pixel_exact) {
             scene_free(&s);
             continue;
         }
+        s.r->floor0[k % 2] = 1; /* smooth_f goes below 0: one channel's floor exercised */
         /* lattice: centres (2i + 1) / 32 or (4i + 2) / 32 on the grid's vertices, or (k = 2, 3)
          * i / 16 and i / 8, x = 0 and y = 0 among them; else pixels of ~2.3 cells, every
-         * triangle well under a pixel of area */
-        int w = lattice ? 16 >> (k % 2) : n / 2;
+         * triangle well under a pixel of area, or (k >= 8) cells of ~1.7 pixels, triangles of
+         * about 1.5 pixels (under 4 with the jitter) owning one to three centres each, some
+         * across the end of a batch of the queue */
+        int w = lattice ? 16 >> (k % 2) : k < 8 ? n / 2 : 2 * n;
         double h = k < 2 ? 0 : 0.5 / w;
         tc_viewport vp = lattice ? (tc_viewport){-h, -h, 1 - h, 1 - h, w, w}
                                  : (tc_viewport){-0.1, -0.05, 1.05, 1.1, w, w - 1};
@@ -670,7 +675,7 @@ TEST(raster_triangles_under_a_pixel_exact) {
         }
         tc__raster_force_generic(1); /* counts the triangles set up in the fast form */
         check_tile_as(&s, &vp, 1 + 2 * (k % 2), 1);
-        CHECK_MSG(tc__raster_fast_setups() == 0, "mesh %d: %ld triangles under a pixel set up in the fast form", k,
+        CHECK_MSG(tc__raster_fast_setups() == 0, "mesh %d: %ld triangles under four pixels set up in the fast form", k,
                   tc__raster_fast_setups());
         tc__raster_force_generic(0);
         size_t np = (size_t)vp.width * (size_t)vp.height;
