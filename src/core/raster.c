@@ -781,8 +781,7 @@ static void flush_queue(const job *jb, shade_queue *q) {
     }
     for (int k = 0; k < q->n; k++)
         for (int ch = 0; ch < nc; ch++) {
-            float f = (float)q->v[k * nc + ch];
-            if (isinf(f)) f = copysignf(FLT_MAX, f);
+            float f = tile_float(q->v[k * nc + ch]);
             q->out[k][ch] = jb->r->floor0[ch] && f < 0 ? 0 : f;
         }
     q->n = 0;
