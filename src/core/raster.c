@@ -487,13 +487,17 @@ TC__V4_INLINE void classify_lanes(const band *bd, const tri *tr, int32_t j, doub
     classify_at(bd, tr, j, y, l, al, idx, x, (1u << k) - 1, inb, outb);
 }
 
-/* Pixel centres i .. i + k - 1 of the row (k <= 4); lanes beyond repeat the first. */
+/* Pixel centres i .. i + k - 1 of the row (1 <= k <= 4); lanes beyond repeat the first or
+ * the last (every caller masks them out). No loop: GCC made the loop over k a call of
+ * memcpy, with a vzeroupper before it, in every short run of the AVX2 rows. */
 TC__V4_INLINE tc__v4d lanes_x(const double *xs, int32_t i, int32_t k) {
-    tc__v4d x = tc__splat(xs[i]);
-    if (k == 4) memcpy(&x, xs + i, sizeof x);
-    else
-        for (int q = 1; q < k; q++) x[q] = xs[i + q];
-    return x;
+    tc__v4d x;
+    if (k == 4) {
+        memcpy(&x, xs + i, sizeof x);
+        return x;
+    }
+    int32_t last = k - 1; /* 0 .. 2 */
+    return (tc__v4d){xs[i], xs[i + (last < 1 ? last : 1)], xs[i + last], xs[i]};
 }
 
 TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y, const double l[3], int32_t lo,
