@@ -246,7 +246,7 @@ static void eval_ct_chunk(const share *sh, size_t k, const size_t *idx, const do
 
 static void eval_share(const share *sh) {
     const tc_recon *r = sh->r;
-    int nc = r->m->nc, ct = r->eval == tc__ct_eval && r->ncoef == TC_CT_ORDINATES;
+    int nc = r->m->nc, ct = tc__recon_is_ct(r);
     frames fr;
     int no_frames = frames_init(&fr, r->m, sh->hi - sh->lo);
     double pxy[2 * CHUNK];

@@ -204,7 +204,7 @@ static void shade_run(const job *jb, const tri *tr, int32_t t, const double *xs,
     const tc_recon *r = jb->r;
     int nc = r->m->nc;
     const double *coef = r->coef + (size_t)t * (size_t)nc * (size_t)r->ncoef;
-    if (r->eval == tc__ct_eval) {
+    if (tc__recon_is_ct(r)) {
         if (tr->fast) {
             double K[3];
             tc__ct_fast_row(&tr->ff, y, K);
@@ -741,7 +741,7 @@ static void tri_setup(const job *jb, const struct tc__slot *s, tri *tr) {
         tr->low[ch] = (v4f){lo, lo, lo, lo};
     }
     frame_from_slot(jb->r->m, s, &tr->f);
-    tr->fast = jb->fast_form && jb->r->eval == tc__ct_eval && fast_shape(&tr->f);
+    tr->fast = jb->fast_form && tc__recon_is_ct(jb->r) && fast_shape(&tr->f);
     if (force_generic && tr->fast) atomic_fetch_add(&fast_setups, 1);
     if (!tr->fast) {
         tc__frame_rest(&tr->f); /* the exact evaluation's whole frame, tc__frame's */
@@ -972,8 +972,7 @@ static void render_band(job *jb, int32_t j0, int32_t j1, int32_t *scratch) {
     const tc_viewport *vp = jb->vp;
     shade_queue q; /* ~12 KB of stack: no thread here is started with less than the default */
     q.n = 0;
-    int queued = jb->r->eval == tc__ct_eval && jb->r->ncoef == TC_CT_ORDINATES;
-    band bd = {jb, j0, j1, scratch, {NULL}, 0, 0, queued ? &q : NULL};
+    band bd = {jb, j0, j1, scratch, {NULL}, 0, 0, tc__recon_is_ct(jb->r) ? &q : NULL};
     if (jb->owner) bd.own = jb->owner + (size_t)(bd.j0 - jb->row0) * (size_t)vp->width;
     memset(bd.own, 0xff, (size_t)(bd.j1 - bd.j0) * (size_t)vp->width * sizeof *bd.own); /* all -1 */
     double xa, ya, xb, yb, lo[2], hi[2];

@@ -3,6 +3,7 @@
 #ifndef TC_CORE_RECON_H
 #define TC_CORE_RECON_H
 
+#include "core/ct.h"
 #include "core/deadline.h"
 #include "core/method.h"
 
@@ -29,6 +30,12 @@ struct tc_recon {
 /* Past r's build deadline (opt.deadline_ms): a build checks it between its stages and
  * returns TC_ETIMEOUT, leaving what it made to tc_recon_free. */
 static inline int tc__recon_late(const struct tc_recon *r) { return tc__past(r->opt.deadline_ms); }
+
+/* Whether r is the Clough-Tocher cubic (19 ordinates per channel): what the four-lane paths
+ * (tc__ct_points4, the renderer's queue and fast form) evaluate. */
+static inline int tc__recon_is_ct(const struct tc_recon *r) {
+    return r->eval == tc__ct_eval && r->ncoef == TC_CT_ORDINATES;
+}
 
 /* Value v of channel ch as a point or a pixel of r gets it. */
 static inline double tc__floored(const struct tc_recon *r, int ch, double v) {
