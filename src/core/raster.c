@@ -692,6 +692,12 @@ static void frame_from_slot(const tc_mesh *m, const struct tc__slot *s, tc__eval
     tc__frame_edges(f);
 }
 
+/* tc__frame's whole frame (the exact evaluation's), the corners from the slot. */
+static void exact_frame(const tc_mesh *m, const struct tc__slot *s, tc__eval_frame *f) {
+    frame_from_slot(m, s, f);
+    tc__frame_rest(f);
+}
+
 /* Aspect <= TC__CT_FAST_ASPECT (ct_fast.h's premise): the longest edge squared at most that
  * many times twice the area, from the frame's edges, without a square root. */
 static int fast_shape(const tc__eval_frame *f) {
@@ -798,7 +804,7 @@ static void queue_pixel(const band *bd, const struct tc__slot *s, double x, doub
     shade_queue *q = bd->q;
     if (q->n == QUEUE) flush_queue(jb, q), *fk = -1;
     int k = q->n++;
-    if (*fk < 0) *fk = k, frame_from_slot(jb->r->m, s, &q->f[k]), tc__frame_rest(&q->f[k]);
+    if (*fk < 0) *fk = k, exact_frame(jb->r->m, s, &q->f[k]);
     q->lane[k] = (tc__ct_lane){&q->f[*fk], jb->r->coef + (size_t)s->t * (size_t)jb->nc * TC_CT_ORDINATES, x, y,
                                q->v + (size_t)k * (size_t)jb->nc, NULL};
     q->out[k] = out;
@@ -830,7 +836,7 @@ static void cover_few(const band *bd, const struct tc__slot *s, const double box
                 queue_pixel(bd, s, jb->xs[i], y, row + (size_t)i * (size_t)jb->nc, &fk);
                 continue;
             }
-            if (!framed) frame_from_slot(jb->r->m, s, &tr.f), tc__frame_rest(&tr.f), framed = 1;
+            if (!framed) exact_frame(jb->r->m, s, &tr.f), framed = 1;
             shade_run(jb, &tr, s->t, jb->xs + i, y, 1, row + (size_t)i * (size_t)jb->nc);
         }
     }
