@@ -19,7 +19,7 @@
  * magnitude at worst, 3.9e-16 measured (tests/unit/test_raster.c). Where rounding picks the
  * neighbouring subtriangle, the two cubics agree to C1 there.
  * The multiply-adds are fused explicitly (tc__fma4: one rounding each, on every build: the
- * FMA instruction where raster.c's AVX2 build runs, libm's correctly rounded fma in the portable
+ * FMA instruction where raster_cover.c's AVX2 build runs, libm's correctly rounded fma in the portable
  * one); nothing else is fused or reassociated (-std=c11: no contraction). So the two builds give
  * the same bits, and a pixel's value depends only on the triangle, its row and its x. Fused, a
  * 1024² grid64 tile renders ~8% faster than with a multiply and an add (one rounding fewer per
@@ -47,7 +47,7 @@ typedef struct {
 
 void tc__ct_fast_prepare(const tc__eval_frame *f, const double *coef, int nc, tc__ct_fast *ff);
 
-/* Tests: 1 makes tc_render use the portable build of its row loop with the fast form (raster.c), 2
+/* Tests: 1 makes tc_render use the portable build of raster_cover.c with the fast form, 2
  * no fast form (the exact path for every triangle, as where fma is not an instruction), 0 lets
  * the CPU choose. */
 void tc__raster_force_generic(int on);
@@ -56,7 +56,7 @@ void tc__raster_force_generic(int on);
 long tc__raster_fast_setups(void);
 
 /* a * b + c, lane by lane, rounded once: lane-wise fma, which GCC turns into one vfmadd in a
- * function built for FMA (raster.c's cover_rows_avx2) and into calls of libm's fma elsewhere. */
+ * file built for FMA (raster_cover_avx2.o) and into calls of libm's fma elsewhere. */
 TC__V4_INLINE tc__v4d tc__fma4(tc__v4d a, tc__v4d b, tc__v4d c) {
     return (tc__v4d){__builtin_fma(a[0], b[0], c[0]), __builtin_fma(a[1], b[1], c[1]), __builtin_fma(a[2], b[2], c[2]),
                      __builtin_fma(a[3], b[3], c[3])};

@@ -33,13 +33,18 @@ TC__V4_INLINE tc__v4d tc__sel(tc__v4i m, tc__v4d a, tc__v4d b) {
 }
 
 /* Bit l set when lane l of m is set (m all ones or all zeros per lane): SSE2's movmskpd on
- * each half, so it builds for the portable and the AVX2 variants alike. */
+ * each half, so it builds for the portable and the AVX2 variants alike; in a file built with
+ * AVX throughout (raster_cover_avx2.o) one vmovmskpd on the whole, instead of five instructions. */
 TC__V4_INLINE unsigned tc__mask4(tc__v4i m) {
+#ifdef __AVX__
+    return (unsigned)__builtin_ia32_movmskpd256((tc__v4d)m);
+#else
     typedef double v2d __attribute__((vector_size(16)));
     v2d lo, hi;
     memcpy(&lo, &m, sizeof lo);
     memcpy(&hi, (const char *)&m + sizeof lo, sizeof hi);
     return (unsigned)__builtin_ia32_movmskpd(lo) | (unsigned)__builtin_ia32_movmskpd(hi) << 2;
+#endif
 }
 
 #endif
