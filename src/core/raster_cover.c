@@ -58,13 +58,24 @@ static void pixel_range(double a, double b, double origin, double step, double p
 
 /* Owner encoding while a band is rasterized: -1 none, t >= 0 strict owner,
  * -2 - t a closed-only candidate (points on the outer boundary; the lowest
- * index wins, as in tc_locate). Returns the test's result. */
+ * index wins, as in tc_locate). */
+
+/* Triangle t's claim as a closed-only candidate of the pixel whose owner is *slot: it replaces
+ * none (-1) and a candidate of a higher index (-2 - u < -2 - t when u > t); an owner stays.
+ * (Written without a branch, a cmov and a store every time: 1-2% faster on a 1024² grid64
+ * tile, 2-4% slower on the dense 256² and 512² grid256 tiles, 10 rounds in turns.) */
+static inline void candidate(int32_t *slot, int32_t t) {
+    int32_t c = -2 - t;
+    if (*slot == -1 || *slot < c) *slot = c;
+}
+
+/* Claims the pixel (i, j) for s by the exact test; returns the test's result. */
 static int claim(const band *bd, const struct tc__slot *s, int32_t i, int32_t j, double y) {
     int hit = tc__slot_test(s, bd->jb->xs[i], y);
     if (hit == TC_SLOT_OUT) return hit;
     int32_t *slot = &own_row(bd, j)[i];
     if (hit == TC_SLOT_OWN) *slot = s->t;
-    else if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
+    else candidate(slot, s->t);
     return hit;
 }
 
@@ -292,7 +303,7 @@ static int classify_one(const band *bd, const struct tc__slot *s, const double l
     }
     int32_t *slot = &own_row(bd, j)[i];
     if (hit == TC_SLOT_OWN) *slot = s->t;
-    else if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
+    else candidate(slot, s->t);
     return hit;
 }
 
@@ -343,8 +354,7 @@ TC__V4_INLINE void classify_at(const band *bd, const tri *tr, int32_t j, double 
         }
         *inb = tc__mask4(in) & valid, *outb = tc__mask4(out) & valid;
         for (unsigned touch = valid & ~(*inb | *outb); touch; touch &= touch - 1) { /* claimed as claim() does */
-            int32_t *slot = &own_row(bd, j)[idx[__builtin_ctz(touch)]];
-            if (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t)) *slot = -2 - s->t;
+            candidate(&own_row(bd, j)[idx[__builtin_ctz(touch)]], s->t);
         }
         return;
     }
@@ -383,7 +393,7 @@ TC__V4_INLINE void classify_at(const band *bd, const tri *tr, int32_t j, double 
             h = ng >> q & 1u ? TC_SLOT_OUT : tc >> q & 1u ? TC_SLOT_TOUCH : TC_SLOT_OWN;
             int32_t *slot = &own_row(bd, j)[idx[q]];
             if (h == TC_SLOT_OWN) *slot = s->t;
-            else if (h == TC_SLOT_TOUCH && (*slot == -1 || (*slot <= -2 && -2 - *slot > s->t))) *slot = -2 - s->t;
+            else if (h == TC_SLOT_TOUCH) candidate(slot, s->t);
         } else {
             h = classify_one(bd, s, l, idx[q], j, y);
         }
