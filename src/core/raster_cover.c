@@ -1,10 +1,10 @@
 /* raster_cover.c — covering one band's triangles: each pixel centre owned exactly as tc_locate
- * owns it (certified four lanes at a time), valued by the fast cubic (ct_fast.h) or exactly as
- * tc_eval_triangle values it. Built twice (Makefile): portable, and with -mavx2 -mfma and
- * TC_COVER_AVX2, so that every function here, not only the row loop, runs AVX2 and FMA
- * instructions (and vec4.h's masks take one instruction) where raster.c finds the CPU has them.
- * Nothing is contracted or reassociated (-std=c11) and every fma is explicit, so both give the
- * same bytes (tests/unit/test_raster.c). */
+ * owns it, valued by the fast cubic (ct_fast.h) or exactly as tc_eval_triangle values it.
+ *
+ * Built twice (Makefile): portable, and with -mavx2 -mfma and TC_COVER_AVX2, so that every
+ * function here, not only the row loop, runs AVX2 and FMA instructions (and vec4.h's masks one
+ * instruction) where raster.c finds the CPU has them. Nothing is contracted or reassociated
+ * (-std=c11) and every fma is explicit, so both give the same bytes (tests/unit/test_raster.c). */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdint.h>
@@ -820,6 +820,8 @@ static void settle_band(const band *bd) {
 }
 
 
+/* raster_band.h: the band's triangles from the locator, each covered (held PREFETCH_AHEAD behind),
+ * the queue's last pixels shaded, then the band settled. */
 void COVER_BAND(band *bd) {
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
