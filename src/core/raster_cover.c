@@ -786,6 +786,22 @@ static void cover_later(void *ctx, const struct tc__slot *s) {
 /* After every triangle of the band: the pixels no triangle owns strictly get the
  * background, and closed-only candidates (points on the outer boundary: the
  * lowest index wins, as in tc_locate) become owned and are shaded exactly. */
+/* The first pixel from i on of a row of n whose owner is not settled (negative: none, or a
+ * closed-only candidate), or n: eight owners at a time by their sign bits, one movmskps per four
+ * (most of a tile is owned; the scan was 3-4% of a 1024² grid64 tile an owner at a time). */
+static inline int32_t first_unsettled(const int32_t *row, int32_t i, int32_t n) {
+    typedef float v4sf __attribute__((vector_size(16)));
+    for (; i + 8 <= n; i += 8) {
+        v4sf a, b;
+        memcpy(&a, row + i, sizeof a);
+        memcpy(&b, row + i + 4, sizeof b);
+        unsigned m = (unsigned)__builtin_ia32_movmskps(a) | (unsigned)__builtin_ia32_movmskps(b) << 4;
+        if (m) return i + __builtin_ctz(m);
+    }
+    while (i < n && row[i] >= 0) i++;
+    return i;
+}
+
 static void settle_band(const band *bd) {
     const job *jb = bd->jb;
     const tc_viewport *vp = jb->vp;
@@ -794,24 +810,17 @@ static void settle_band(const band *bd) {
         double y = jb->ys[j - jb->row0];
         size_t row = (size_t)(j - jb->row0) * (size_t)vp->width;
         int32_t *orow = own_row(bd, j);
-        for (int32_t i = 0; i < vp->width; i++) {
+        for (int32_t i = first_unsettled(orow, 0, vp->width); i < vp->width;
+             i = first_unsettled(orow, i + 1, vp->width)) {
             int32_t t = orow[i];
-            if (t >= 0 && i + 8 <= vp->width) { /* skip owned pixels eight at a time */
-                int32_t any = 0;
-                for (int q = 0; q < 8; q++) any |= orow[i + q];
-                if (any >= 0) {
-                    i += 7;
-                    continue;
-                }
-            }
-            if (t >= 0) continue;
             float *out = jb->values + (row + (size_t)i) * (size_t)nc;
             if (t == -1) {
                 for (int ch = 0; ch < nc; ch++)
                     out[ch] = jb->ropt->background ? tile_float(jb->ropt->background[ch]) : 0.0f;
                 continue;
             }
-            tri tr = {.s = NULL, .fast = 0};
+            tri tr; /* shade_run reads only f and fast; not zeroed whole: the fast form is ~1 KB */
+            tr.s = NULL, tr.fast = 0;
             t = orow[i] = -2 - t;
             tc__frame(jb->r->m, t, &tr.f);
             shade_run(jb, &tr, t, jb->xs + i, y, 1, out);
