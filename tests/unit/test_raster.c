@@ -141,8 +141,8 @@ TEST(raster_runs_match_locate_fuzz) {
     }
 }
 
-/* The row loop (ownership lanes, the fast cubic) and tc__ct_span each have a
- * portable and an AVX2 build: the same bits whichever runs (no contraction, no
+/* The covering of a band (raster_cover.c: ownership lanes, the fast cubic) and tc__ct_span each
+ * have a portable and an AVX2 build: the same bits whichever runs (no contraction, no
  * reassociation; the fast cubic's explicit fma is the FMA instruction in one and libm's
  * correctly rounded fma in the other), and each within the contract. */
 TEST(raster_portable_build_same_bits) {
@@ -598,11 +598,11 @@ TEST(raster_centres_exactly_on_vertices_and_edges) {
     scene_free(&s);
 }
 
-/* Pixel centres on the diagonals and edges of an unjittered grid, the case raster.c's
+/* Pixel centres on the diagonals and edges of an unjittered grid, the case raster_cover.c's
  * row runs settle from four lanes (an owned or touching lane at a run's end, the exact
  * signs of lanes on an edge, four at a time) and a tile whose first and last columns
  * cut triangles (the run clipped there): dyadic lattices (4 or 8 cells, 2..16 pixels
- * per cell: every orientation computed exactly, raster.c's lattice_exact) and others
+ * per cell: every orientation computed exactly, raster_cover.c's lattice_exact) and others
  * (3..6 cells, 2..9 pixels: signs certified, or exact because nothing rounded), both
  * diagonal directions, shifted by whole and half pixels, one mesh translated far from
  * the origin (differences round: the exact test decides), thread counts 1 and 3. */
@@ -635,14 +635,14 @@ TEST(raster_runs_on_lattice_edges) {
     }
 }
 
-/* Tiles denser than their pixels (raster.c's cover_few: a triangle under four pixels of area, or
+/* Tiles denser than their pixels (raster_cover.c's cover_few: a triangle under four pixels of area, or
  * whose box covers under 16 pixels, has its few centres classified and shaded exactly, and no
  * fast form set up): every owner tc_locate's and every value tc_eval_points' bit for bit, with
  * centres on the mesh's vertices and edges (a dyadic grid, the centres on its lattice, half of
  * the tiles with a column and a row of centres on its outer boundary, owned in the closed sense
- * only) and off them (jittered grids, some flipped), on 1 and 3 threads, and the same bytes in
- * bands of 5 rows. Two channels, one of them floored (negative values clamped to 0); their
- * pixels are shaded four at a time across triangles (raster.c's shade_queue), 32 to a batch. */
+ * only) and off them (jittered grids, some flipped), on 1 and 3 threads, with each build of the
+ * covering (portable and AVX2), and the same bytes in bands of 5 rows. Two channels, one of them floored (negative values clamped to 0); their
+ * pixels are shaded four at a time across triangles (raster_cover.c's shade_queue), 32 to a batch. */
 TEST(raster_triangles_under_four_pixels_exact) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 34);
@@ -673,7 +673,8 @@ TEST(raster_triangles_under_four_pixels_exact) {
             tc_viewport_pixel_center(&vp, 0, w - 1, &cx, &cy);
             CHECK(cx == 0 && cy == 0);
         }
-        tc__raster_force_generic(1); /* counts the triangles set up in the fast form */
+        check_tile_as(&s, &vp, 1 + 2 * (k % 2), 1); /* the build the CPU picks (AVX2 here) */
+        tc__raster_force_generic(1); /* the portable build; counts the triangles set up in the fast form */
         check_tile_as(&s, &vp, 1 + 2 * (k % 2), 1);
         CHECK_MSG(tc__raster_fast_setups() == 0, "mesh %d: %ld triangles under four pixels set up in the fast form", k,
                   tc__raster_fast_setups());
