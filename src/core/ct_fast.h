@@ -11,7 +11,7 @@
  * pixels cost one subtraction, three multiply-adds, the comparisons and one bivariate Horner
  * scheme (nine multiply-adds) per channel; no barycentrics, no monomials.
  * Why it is close: D's error is a few ulps times the triangle's aspect (longest edge squared
- * over twice the area), and raster.c sends only triangles of aspect <= TC__CT_FAST_ASPECT
+ * over twice the area), and raster_cover.c sends only triangles of aspect <= TC__CT_FAST_ASPECT
  * here; the cubic's gradient in (A, B) is at most 3 times its ordinates' spread whatever
  * the form, and the Horner scheme's rounding is at most ~7 ulps of the sum of its terms'
  * magnitudes, each coefficient a sum of at most nine Bernstein weights times ordinate

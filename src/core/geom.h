@@ -73,7 +73,7 @@ typedef struct {
 } tc__eval_frame;
 
 /* The frame's edges and inv_a from its corners f->p: all the renderer's fast cubic reads
- * (ct_fast.h), with the corners from the locator's slot (raster.c). */
+ * (ct_fast.h), with the corners from the locator's slot (raster_cover.c). */
 static inline void tc__frame_edges(tc__eval_frame *f) {
     for (int i = 0; i < 3; i++) {
         const double *a = f->p[(i + 1) % 3], *b = f->p[(i + 2) % 3];
