@@ -4,7 +4,8 @@
 # with -Wconversion and the core's assertions on; `make report` / `make bench` measure
 # (docs/report.md, docs/performance.md); `make numfmt-full` runs the number printing tests at the
 # issue's 10^7 size; `make torture` attacks the daemon at full size;
-# `make fuzz` builds the libFuzzer target (tests/fuzz/).
+# `make fuzz` builds the libFuzzer target (tests/fuzz/); `make cross` builds for aarch64 and runs
+# the unit tests of its per-architecture code under qemu.
 
 CC      ?= cc
 BUILD   ?= build
@@ -53,8 +54,10 @@ SRV_SRC  := $(wildcard src/server/*.c)
 TEST_SRC := tests/main.c $(wildcard tests/support/*.c) $(wildcard tests/unit/*.c) $(wildcard tests/stability/*.c)
 
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
-# raster_cover.c twice: portable, and with AVX2 and FMA (raster.c picks by the CPU).
-COVER_AVX2 := $(BUILD)/obj/src/core/raster_cover_avx2.o
+# raster_cover.c twice on x86: portable, and with AVX2 and FMA (raster.c picks by the CPU);
+# elsewhere (aarch64) the portable build alone (src/core/cpu.h).
+TARGET_ARCH_X86 := $(filter x86_64-% i386-% i486-% i586-% i686-%,$(shell $(CC) -dumpmachine 2>/dev/null))
+COVER_AVX2 := $(if $(TARGET_ARCH_X86),$(BUILD)/obj/src/core/raster_cover_avx2.o)
 LIB_OBJ  := $(call obj,$(CORE_SRC) $(IO_SRC)) $(COVER_AVX2)
 CLI_OBJ  := $(call obj,$(CLI_SRC))
 SRV_OBJ  := $(call obj,$(SRV_SRC))
@@ -64,7 +67,7 @@ BENCH_OBJ := $(call obj,$(wildcard bench/*.c))
 PERF_OBJ := $(call obj,$(wildcard bench/perf/*.c))
 TEST_OBJ := $(call obj,$(TEST_SRC))
 
-.PHONY: all deps test test-unit numfmt-full check torture run clean report report-quick bench fuzz fuzz-deps cluster cluster-stop
+.PHONY: all deps test test-unit numfmt-full check torture run clean report report-quick bench fuzz fuzz-deps cross cross-deps cluster cluster-stop
 .DEFAULT_GOAL := all
 
 all: $(BUILD)/libtocher.a $(BUILD)/tocher $(BUILD)/tocherd $(BUILD)/libtocher_image.so
@@ -73,9 +76,11 @@ $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
+ifneq ($(COVER_AVX2),)
 $(COVER_AVX2): src/core/raster_cover.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -mavx2 -mfma -DTC_COVER_AVX2 -c $< -o $@
+endif
 
 $(BUILD)/obj/tests/%.o: ALL_CFLAGS += -Itests -Itests/support
 $(BUILD)/obj/src/server/%.o: ALL_CFLAGS += $(MHD_CFLAGS)
@@ -224,6 +229,32 @@ fuzz-deps:
 
 $(BUILD)/fuzz_api: $(call obj,tests/fuzz/fuzz_api.c) $(BUILD)/libtocher.a
 	$(CC) $(FUZZ_LINK) $(LDFLAGS) $^ $(LIBS) -o $@
+
+# The portable build on another architecture (src/core/cpu.h: the AVX2 variants are x86's only):
+# the library and the unit tests cross-built for aarch64 in build/aarch64/ (every warning an
+# error) and the tests of the code that has per-architecture paths (CROSS_TESTS: the covering of
+# tiles, scattered points, spans, the locator, fmax/fmin, number reading and printing, typed arrays) run
+# under qemu-user against the arm64 glibc and libraries (Debian multiarch). The image plugin
+# (OpenImageIO, C++) is not cross-built. A few minutes; .ci/run runs it.
+CROSS_PACKAGES := gcc-aarch64-linux-gnu qemu-user-static libc6:arm64 libcjson-dev:arm64 \
+                  libhiredis-dev:arm64 libzstd-dev:arm64
+CROSS_TESTS := raster points span locate minmax numfmt strtod typed base64 request_fast
+cross: cross-deps
+	@$(MAKE) --no-print-directory CC=aarch64-linux-gnu-gcc BUILD=build/aarch64 build/aarch64/libtocher.a \
+	  build/aarch64/test_unit
+	@for t in $(CROSS_TESTS); do \
+	  out=$$(qemu-aarch64-static -L / build/aarch64/test_unit $$t 2>&1) || { echo "$$out" | grep FAIL; exit 1; }; \
+	  printf 'aarch64 %-13s %s\n' "$$t:" "$$(echo "$$out" | tail -n 1)"; done
+
+cross-deps:
+	@if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	missing=""; for p in $(CROSS_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:$$missing"; \
+	  dpkg --print-foreign-architectures | grep -qx arm64 || $$SUDO dpkg --add-architecture arm64; \
+	  $$SUDO apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
+	fi
 
 # The daemon under hostile load at full size (slow clients, floods, huge bodies): every
 # tests/torture/*.py against the daemon in $(BUILD); minutes, not run by CI. Their short

@@ -11,6 +11,7 @@
  * across an ABI boundary (the Makefile silences GCC's -Wpsabi note). */
 #include <string.h>
 
+#include "core/cpu.h"
 #include "core/ct.h"
 #include "core/ct_lanes.h"
 #include "core/vec4.h"
@@ -76,9 +77,11 @@ static void points_generic(const tc__ct_lane lane[4], int nc, const uint8_t *flo
     points_body(lane, nc, floor0);
 }
 
+#if TC__X86
 __attribute__((target("avx2"))) static void points_avx2(const tc__ct_lane lane[4], int nc, const uint8_t *floor0) {
     points_body(lane, nc, floor0);
 }
+#endif
 
 static int force_generic;
 
@@ -87,6 +90,11 @@ void tc__ct_points_force_generic(int on) {
 }
 
 void tc__ct_points4(const tc__ct_lane lane[4], int nc, const uint8_t *floor0) {
-    if (!force_generic && __builtin_cpu_supports("avx2")) points_avx2(lane, nc, floor0);
-    else points_generic(lane, nc, floor0);
+#if TC__X86
+    if (!force_generic && tc__cpu_avx2()) {
+        points_avx2(lane, nc, floor0);
+        return;
+    }
+#endif
+    points_generic(lane, nc, floor0);
 }

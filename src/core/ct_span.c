@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/cpu.h"
 #include "core/ct.h"
 #include "core/ct_lanes.h"
 #include "core/vec4.h"
@@ -76,11 +77,13 @@ static void span_generic(const tc__eval_frame *f, const double *coef, int nc, co
     span_body(f, coef, nc, xs, y, n, out, dout);
 }
 
+#if TC__X86
 __attribute__((target("avx2"))) static void span_avx2(const tc__eval_frame *f, const double *coef, int nc,
                                                        const double *xs, double y, int32_t n, float *out,
                                                        double *dout) {
     span_body(f, coef, nc, xs, y, n, out, dout);
 }
+#endif
 
 static int force_generic;
 
@@ -90,6 +93,11 @@ void tc__ct_span_force_generic(int on) {
 
 void tc__ct_span(const tc__eval_frame *f, const double *coef, int nc, const double *xs, double y, int32_t n, float *out,
                  double *dout) {
-    if (!force_generic && __builtin_cpu_supports("avx2")) span_avx2(f, coef, nc, xs, y, n, out, dout);
-    else span_generic(f, coef, nc, xs, y, n, out, dout);
+#if TC__X86
+    if (!force_generic && tc__cpu_avx2()) {
+        span_avx2(f, coef, nc, xs, y, n, out, dout);
+        return;
+    }
+#endif
+    span_generic(f, coef, nc, xs, y, n, out, dout);
 }

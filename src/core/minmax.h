@@ -5,7 +5,8 @@
 #define TC_CORE_MINMAX_H
 
 /* C99's fmax: the larger operand, or the one that is not a NaN. Equal operands (+0 and -0
- * among them) give b, as glibc's x86-64 fmax does (maxsd), so results stay bit for bit. */
+ * among them) give b, as glibc's x86-64 fmax does (maxsd), so results stay bit for bit; on
+ * every architecture (aarch64's glibc gives +0 for fmax(-0, +0) and fmax(+0, -0)). */
 static inline double tc__fmax(double a, double b) {
     return a > b || b != b ? a : b;
 }

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/cpu.h"
 #include "core/ct_fast.h"
 #include "core/mesh.h"
 #include "core/minmax.h"
@@ -30,9 +31,14 @@ void tc_viewport_pixel_center(const tc_viewport *vp, int32_t i, int32_t j, doubl
 static int force_generic; /* tests (tc__raster_force_generic): 1 the portable covering, 2 no fast form */
 static atomic_long fast_setups; /* tests: triangles set up in the fast form while force_generic is set */
 
-/* tc__cover_band_avx2's instructions: AVX2, and FMA for ct_fast.h's fused multiply-adds. */
-static inline int cpu_avx2_fma(void) {
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+/* The band's covering: tc__cover_band_avx2 where it was built (x86) and the CPU has its
+ * instructions (AVX2, and FMA for ct_fast.h's fused multiply-adds), unless a test forces the
+ * portable one; both give the same bytes. */
+static void (*cover_band_here(void))(band *) {
+#if TC__X86
+    if (!force_generic && tc__cpu_avx2_fma()) return tc__cover_band_avx2;
+#endif
+    return tc__cover_band_portable;
 }
 
 /* Whether triangles may take the fast form (ct_fast.h) here: only where its fused multiply-adds
@@ -47,7 +53,7 @@ static int fast_form_here(void) {
 #ifdef __FP_FAST_FMA
     return 1;
 #else
-    return cpu_avx2_fma();
+    return tc__cpu_avx2_fma();
 #endif
 }
 
@@ -207,7 +213,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
               .row0 = ropt->row0, .rows = rows, .grain_lo = grain_lo, .grain_hi = grain_hi, .nc = r->m->nc,
               .per_x = vp->width / (vp->x1 - vp->x0), .per_y = vp->height / (vp->y1 - vp->y0),
               .fast_form = fast_form_here(), .threads = 1, .limit = limit,
-              .cover_band = !force_generic && cpu_avx2_fma() ? tc__cover_band_avx2 : tc__cover_band_portable,
+              .cover_band = cover_band_here(),
               .fast_setups = force_generic ? &fast_setups : NULL};
     run_threads(&jb, jb.ropt->threads > 1 ? jb.ropt->threads : 1);
     if (ropt->limited) *ropt->limited += atomic_load(&jb.limited);

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/alloc.h"
+#include "core/cpu.h"
 #include "core/ct.h"
 #include "core/ct_fast.h"
 #include "core/ct_points.h"
@@ -194,6 +195,25 @@ TC__V4_INLINE v4f fsel(v4si m, v4f a, v4f b) {
     return out;
 }
 
+/* SSE's maxps and minps, exactly: max(a, b) = a > b ? a : b and min(a, b) = a < b ? a : b, lane
+ * by lane, so a NaN or a -0 in b comes through (store_lanes_nc relies on it). One instruction
+ * on x86; elsewhere the same selection by comparison. */
+TC__V4_INLINE v4f sse_max(v4f a, v4f b) {
+#if TC__X86
+    return __builtin_ia32_maxps(a, b);
+#else
+    return fsel(a > b, a, b);
+#endif
+}
+
+TC__V4_INLINE v4f sse_min(v4f a, v4f b) {
+#if TC__X86
+    return __builtin_ia32_minps(a, b);
+#else
+    return fsel(a < b, a, b);
+#endif
+}
+
 TC__V4_INLINE tc__v4d vabs(tc__v4d a) {
     return tc__sel((tc__v4i){INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX}, a, tc__splat(0));
 }
@@ -208,10 +228,10 @@ TC__V4_INLINE void store_lanes_nc(const tri *tr, int nc, const double K[3], tc__
     tc__ct_fast_lanes_nc(&tr->ff, nc, K, x, v);
     for (int ch = 0; ch < nc; ch++) {
         v4f f = __builtin_convertvector(v[ch], v4f), big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}, low;
-        /* as tile_float, then tc__floored: SSE's max(a, b) is a > b ? a : b, so a NaN or a -0
-         * f comes through max(c, f) and min(c, f); low is -FLT_MAX, or 0 for a floored channel */
+        /* as tile_float, then tc__floored: a NaN or a -0 f comes through sse_max(c, f) and
+         * sse_min(c, f); low is -FLT_MAX, or 0 for a floored channel */
         memcpy(&low, &tr->low[ch], sizeof low);
-        f = __builtin_ia32_minps(big, __builtin_ia32_maxps(low, f));
+        f = sse_min(big, sse_max(low, f));
         if (nc == 1 && mask == 15) { /* one channel, four pixels of the row, all stored */
             memcpy(out, &f, sizeof f);
             continue;
@@ -790,6 +810,7 @@ static void cover_later(void *ctx, const struct tc__slot *s) {
  * closed-only candidate), or n: eight owners at a time by their sign bits, one movmskps per four
  * (most of a tile is owned; the scan was 3-4% of a 1024² grid64 tile an owner at a time). */
 static inline int32_t first_unsettled(const int32_t *row, int32_t i, int32_t n) {
+#if TC__X86
     typedef float v4sf __attribute__((vector_size(16)));
     for (; i + 8 <= n; i += 8) {
         v4sf a, b;
@@ -798,6 +819,7 @@ static inline int32_t first_unsettled(const int32_t *row, int32_t i, int32_t n) 
         unsigned m = (unsigned)__builtin_ia32_movmskps(a) | (unsigned)__builtin_ia32_movmskps(b) << 4;
         if (m) return i + __builtin_ctz(m);
     }
+#endif
     while (i < n && row[i] >= 0) i++;
     return i;
 }

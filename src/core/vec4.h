@@ -6,6 +6,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/cpu.h"
+
 /* Vectors pass only between always-inline functions of one translation unit and one target,
  * never across a call: the Makefile silences GCC's -Wpsabi note for the files using them. */
 #define TC__V4_INLINE static inline __attribute__((always_inline))
@@ -34,9 +36,13 @@ TC__V4_INLINE tc__v4d tc__sel(tc__v4i m, tc__v4d a, tc__v4d b) {
 
 /* Bit l set when lane l of m is set (m all ones or all zeros per lane): SSE2's movmskpd on
  * each half, so it builds for the portable and the AVX2 variants alike; in a file built with
- * AVX throughout (raster_cover_avx2.o) one vmovmskpd on the whole, instead of five instructions. */
+ * AVX throughout (raster_cover_avx2.o) one vmovmskpd on the whole, instead of five instructions;
+ * off x86, the lanes' sign bits one by one. */
 TC__V4_INLINE unsigned tc__mask4(tc__v4i m) {
-#ifdef __AVX__
+#if !TC__X86
+    return (unsigned)((uint64_t)m[0] >> 63 | (uint64_t)m[1] >> 63 << 1 | (uint64_t)m[2] >> 63 << 2 |
+                      (uint64_t)m[3] >> 63 << 3);
+#elif defined(__AVX__)
     return (unsigned)__builtin_ia32_movmskpd256((tc__v4d)m);
 #else
     typedef double v2d __attribute__((vector_size(16)));
