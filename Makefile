@@ -236,7 +236,7 @@ $(BUILD)/fuzz_api: $(call obj,tests/fuzz/fuzz_api.c) $(BUILD)/libtocher.a
 # tiles, scattered points, spans, the locator, fmax/fmin, number reading and printing, typed arrays) run
 # under qemu-user against the arm64 glibc and libraries (Debian multiarch). The image plugin
 # (OpenImageIO, C++) is not cross-built. A few minutes; .ci/run runs it.
-CROSS_PACKAGES := gcc-aarch64-linux-gnu qemu-user-static libc6:arm64 libcjson-dev:arm64 \
+CROSS_PACKAGES := gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user-static libc6:arm64 libcjson-dev:arm64 \
                   libhiredis-dev:arm64 libzstd-dev:arm64
 CROSS_TESTS := raster points span locate minmax numfmt strtod typed base64 request_fast
 cross: cross-deps
