@@ -807,8 +807,9 @@ static void cover_later(void *ctx, const struct tc__slot *s) {
  * background, and closed-only candidates (points on the outer boundary: the
  * lowest index wins, as in tc_locate) become owned and are shaded exactly. */
 /* The first pixel from i on of a row of n whose owner is not settled (negative: none, or a
- * closed-only candidate), or n: eight owners at a time by their sign bits, one movmskps per four
- * (most of a tile is owned; the scan was 3-4% of a 1024² grid64 tile an owner at a time). */
+ * closed-only candidate), or n: on x86 eight owners at a time by their sign bits, one movmskps per
+ * four (most of a tile is owned; the scan was 3-4% of a 1024² grid64 tile an owner at a time),
+ * elsewhere (and for the last few) one at a time. */
 static inline int32_t first_unsettled(const int32_t *row, int32_t i, int32_t n) {
 #if TC__X86
     typedef float v4sf __attribute__((vector_size(16)));
