@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/cpu.h"
 #include "core/parallel.h"
 
 typedef struct {
@@ -90,7 +91,7 @@ static struct {
 #define SPIN_NS 200000L
 
 static void cpu_relax(void) {
-#if defined(__x86_64__) || defined(__i386__)
+#if TC__X86
     __builtin_ia32_pause();
 #elif defined(__aarch64__)
     __asm__ __volatile__("yield");
