@@ -812,9 +812,8 @@ static void cover_later(void *ctx, const struct tc__slot *s) {
  * elsewhere (and for the last few) one at a time. */
 static inline int32_t first_unsettled(const int32_t *row, int32_t i, int32_t n) {
 #if TC__X86
-    typedef float v4sf __attribute__((vector_size(16)));
     for (; i + 8 <= n; i += 8) {
-        v4sf a, b;
+        v4f a, b;
         memcpy(&a, row + i, sizeof a);
         memcpy(&b, row + i + 4, sizeof b);
         unsigned m = (unsigned)__builtin_ia32_movmskps(a) | (unsigned)__builtin_ia32_movmskps(b) << 4;
