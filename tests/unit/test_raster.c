@@ -641,8 +641,9 @@ TEST(raster_runs_on_lattice_edges) {
  * centres on the mesh's vertices and edges (a dyadic grid, the centres on its lattice, half of
  * the tiles with a column and a row of centres on its outer boundary, owned in the closed sense
  * only) and off them (jittered grids, some flipped), on 1 and 3 threads, with each build of the
- * covering (portable and AVX2), and the same bytes in bands of 5 rows. Two channels, one of them floored (negative values clamped to 0); their
- * pixels are shaded four at a time across triangles (raster_cover.c's shade_queue), 32 to a batch. */
+ * covering (portable and AVX2), and the same bytes in bands of 5 rows. Two channels, one of them
+ * floored (negative values clamped to 0); their pixels are shaded four at a time across triangles
+ * (raster_cover.c's shade_queue), 32 to a batch. */
 TEST(raster_triangles_under_four_pixels_exact) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 34);
