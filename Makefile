@@ -174,16 +174,23 @@ report-quick: deps
 	$(BUILD)/report --out $(QUICK)/report --scenes penumbra --max-density 8 --min-threshold 0.1
 	$(PYTHON) bench/report.py $(QUICK)/report $(QUICK)/report.md
 
-# Installs what the build and the tests need on Debian 12 (as root, or via sudo).
-deps:
-	@missing=""; for p in $(DEBIAN_PACKAGES); do \
-	  dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+# $(call apt_install,PACKAGES[,FIRST]): the Debian packages of the list not installed yet, with
+# apt-get (as root, or via sudo), after the shell command FIRST if any ($$SUDO set for it). A name
+# installed for two architectures (libcjson-dev after `make cross`) is ambiguous to dpkg -s
+# unless qualified: then the machine's own architecture's is asked for.
+apt_install = arch=$$(dpkg --print-architecture); missing=""; for p in $(1); do \
+	  dpkg -s $$p >/dev/null 2>&1 || dpkg -s $$p:$$arch >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then \
 	  echo "installing:$$missing"; \
 	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  $(if $(2),$(2);) \
 	  $$SUDO apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
 	fi
+
+# Installs what the build and the tests need on Debian 12.
+deps:
+	@$(call apt_install,$(DEBIAN_PACKAGES))
 
 test: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/test_unit
@@ -222,10 +229,7 @@ fuzz: deps fuzz-deps
 	  $(FUZZ_BUILD)/fuzz_api
 
 fuzz-deps:
-	@command -v clang >/dev/null 2>&1 || { \
-	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
-	  $$SUDO apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends clang >/dev/null; }
+	@$(call apt_install,clang)
 
 $(BUILD)/fuzz_api: $(call obj,tests/fuzz/fuzz_api.c) $(BUILD)/libtocher.a
 	$(CC) $(FUZZ_LINK) $(LDFLAGS) $^ $(LIBS) -o $@
@@ -247,14 +251,7 @@ cross: cross-deps
 	  printf 'aarch64 %-13s %s\n' "$$t:" "$$(echo "$$out" | tail -n 1)"; done
 
 cross-deps:
-	@if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
-	missing=""; for p in $(CROSS_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
-	if [ -n "$$missing" ]; then \
-	  echo "installing:$$missing"; \
-	  dpkg --print-foreign-architectures | grep -qx arm64 || $$SUDO dpkg --add-architecture arm64; \
-	  $$SUDO apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
-	fi
+	@$(call apt_install,$(CROSS_PACKAGES),dpkg --print-foreign-architectures | grep -qx arm64 || $$SUDO dpkg --add-architecture arm64)
 
 # The daemon under hostile load at full size (slow clients, floods, huge bodies): every
 # tests/torture/*.py against the daemon in $(BUILD); minutes, not run by CI. Their short
