@@ -312,8 +312,8 @@ static int point_less(double ax, double ay, double bx, double by) {
     return ax < bx || (ax == bx && ay < by);
 }
 
-/* Fills a slot with triangle t, corners turned counter-clockwise. */
-static void fill_slot(struct slot *s, const struct tc_mesh *m, int32_t t) {
+/* A slot's corners (counter-clockwise), triangle and left bits for triangle t; no across bits. */
+static void fill_corners(struct slot *s, const struct tc_mesh *m, int32_t t) {
     const int32_t *v = m->tri + 3 * (size_t)t;
     for (int k = 0; k < 3; k++) {
         int32_t c = v[tc__slot_corner(m->orient[t] < 0, k)];
@@ -321,11 +321,58 @@ static void fill_slot(struct slot *s, const struct tc_mesh *m, int32_t t) {
         s->y[k] = m->xy[2 * (size_t)c + 1];
     }
     s->t = t;
-    s->left = 0;
+    s->left = s->across = 0;
     for (int k = 0; k < 3; k++) {
         int j = k == 2 ? 0 : k + 1;
-        if (point_less(s->x[k], s->y[k], s->x[j], s->y[j])) s->left |= 1u << k;
+        if (point_less(s->x[k], s->y[k], s->x[j], s->y[j])) s->left |= (uint16_t)(1u << k);
     }
+}
+
+/* Coordinates whose differences and products orient_sign takes exactly, together with centres
+ * of a tile's lattice (raster_cover.c's lattice_exact: multiples of 2^-500 below 2^500): 0, or
+ * 2^-250 <= |v| <= 2^250 (a difference is then 0 or at least 2^-500, a product of two at least
+ * 2^-1000 and below 2^1002, Dekker's parts of it normal). */
+static int tame_coordinate(double v) {
+    double a = fabs(v);
+    return a == 0 || (a >= 0x1p-250 && a <= 0x1p250);
+}
+
+/* Whether the triangle u across edge k (corners a -> b) of slot s owns every point strictly
+ * between a and b: u's own slot runs b -> a as a left edge with its third corner strictly left
+ * of it (exact signs), so at such a point that edge's sign is 0, which u's rule admits, and the
+ * other two are > 0 (the shared-edge case of the argument above), whatever m->orient says. */
+static int owned_across(const struct slot *s, int k, const struct tc_mesh *m, int32_t u) {
+    struct slot su;
+    fill_corners(&su, m, u);
+    int j = k == 2 ? 0 : k + 1;
+    for (int q = 0; q < 3; q++) {
+        int n = q == 2 ? 0 : q + 1, w = n == 2 ? 0 : n + 1;
+        if (su.x[q] != s->x[j] || su.y[q] != s->y[j] || su.x[n] != s->x[k] || su.y[n] != s->y[k]) continue;
+        for (int c = 0; c < 3; c++)
+            if (!tame_coordinate(su.x[c]) || !tame_coordinate(su.y[c])) return 0;
+        return (su.left >> q & 1u) && orient_sign(su.x[q], su.y[q], su.x[n], su.y[n], su.x[w], su.y[w]) > 0;
+    }
+    return 0;
+}
+
+/* The slot's across bits: for each edge that is not left, whether the mesh's neighbour across
+ * it (topology.c's nbr, by shared vertices) owns the points strictly inside it. */
+static void fill_across(struct slot *s, const struct tc_mesh *m) {
+    if (!m->nbr) return;
+    int cw = m->orient[s->t] < 0;
+    for (int k = 0; k < 3; k++) {
+        if (s->left >> k & 1u) continue;
+        int a = tc__slot_corner(cw, k), b = tc__slot_corner(cw, k == 2 ? 0 : k + 1);
+        int me = b == (a + 1) % 3 ? a : b; /* the mesh's edge e joins its corners e and e + 1 */
+        int32_t u = m->nbr[3 * (size_t)s->t + (size_t)me];
+        if (u >= 0 && owned_across(s, k, m, u)) s->across |= (uint16_t)(1u << k);
+    }
+}
+
+/* Fills a slot with triangle t, corners turned counter-clockwise. */
+static void fill_slot(struct slot *s, const struct tc_mesh *m, int32_t t) {
+    fill_corners(s, m, t);
+    fill_across(s, m);
 }
 
 /* Per-triangle boxes and centres (exact: min / max of the corners, so a point

@@ -349,6 +349,28 @@ TC__V4_INLINE tc__v4i prod_exact4(double a, tc__v4d b, tc__v4d p) {
     return e == tc__splat(0);
 }
 
+/* Edge e's orientation at the four centres x of the row whose terms l are (row_terms): exact,
+ * where tr->exact (lattice_exact). */
+TC__V4_INLINE tc__v4d exact_orient(const tri *tr, const double l[3], int e, tc__v4d x) {
+    return tc__splat(l[e]) - tc__splat(tr->dy[e]) * (x - tc__splat(tr->s->x[e]));
+}
+
+/* The lanes strictly inside an edge whose points the neighbour across it owns (the slot's
+ * across bits), tr->exact: orientation 0 on that edge, > 0 on the other two. The neighbour's
+ * signs there are exact too (its corners tame, locate.c; the centres on tr's lattice), so it owns
+ * them strictly and settles them: no closed-only claim is needed. A grid's diagonal through pixel
+ * centres (a 1024² grid64 tile, every 16th centre of a row) made one in every other row of its
+ * triangles, about 5% of that tile's time. Recomputed here, where a lane touches, not kept from
+ * the classification: the common path stays as small. */
+TC__V4_INLINE unsigned across_lanes(const tri *tr, const double l[3], tc__v4d x) {
+    tc__v4d d[3];
+    tc__v4i z = {0, 0, 0, 0}, p[3];
+    for (int e = 0; e < 3; e++) d[e] = exact_orient(tr, l, e, x), p[e] = d[e] > tc__splat(0);
+    for (int e = 0; e < 3; e++)
+        if (tr->s->across >> e & 1u) z |= (d[e] == tc__splat(0)) & p[e == 2 ? 0 : e + 1] & p[e == 0 ? 2 : e - 1];
+    return tc__mask4(z);
+}
+
 /* Four pixels of row j, lane q the pixel idx[q] at centre x[q] (lanes not in `valid`
  * ignored): each edge's orientation computed as orient_sign computes it (from corner
  * k: l - r, l = (x[k+1] - x[k]) (y - y[k]), r = (y[k+1] - y[k]) (x - x[k])) and its
@@ -368,14 +390,15 @@ TC__V4_INLINE void classify_at(const band *bd, const tri *tr, int32_t j, double 
     tc__v4d det[3], r[3];
     if (tr->exact) { /* lattice_exact: each computed sign is the exact one */
         for (int e = 0; e < 3; e++) {
-            tc__v4d d = tc__splat(l[e]) - tc__splat(tr->dy[e]) * (x - tc__splat(s->x[e]));
+            tc__v4d d = exact_orient(tr, l, e, x);
             in &= d > tc__splat(tr->inside[e]);
             out |= d < tc__splat(0);
         }
         *inb = tc__mask4(in) & valid, *outb = tc__mask4(out) & valid;
-        for (unsigned touch = valid & ~(*inb | *outb); touch; touch &= touch - 1) { /* claimed as claim() does */
+        unsigned touch = valid & ~(*inb | *outb);
+        if (touch && s->across) touch &= ~across_lanes(tr, l, x);
+        for (; touch; touch &= touch - 1) /* claimed as claim() does */
             candidate(&own_row(bd, j)[idx[__builtin_ctz(touch)]], s->t);
-        }
         return;
     }
     for (int e = 0; e < 3; e++) {

@@ -9,6 +9,7 @@
 #include "core/ct.h"
 #include "core/ct_fast.h"
 #include "core/eval.h"
+#include "core/locate.h"
 #include "core/recon.h"
 #include "meshgen.h"
 #include "props.h"
@@ -631,6 +632,46 @@ TEST(raster_runs_on_lattice_edges) {
         tc_viewport inner = {far + 0.3 - 0.5 * h, far + 0.2 - 0.5 * h, far + 0.3 + (w / 2 - 0.5) * h,
                              far + 0.2 + (w / 2 - 0.5) * h, w / 2, w / 2}; /* columns cut triangles */
         check_tile(&s, &inner, 1);
+        scene_free(&s);
+    }
+}
+
+/* The locator's across bits (locate.h), which spare raster_cover.c the closed-only claims of
+ * centres inside an edge whose neighbour owns them: on a grid every interior edge has one,
+ * on the side that is not left, and no boundary edge has any; none either where a coordinate
+ * is beyond the range whose signs are taken exactly with a lattice's (2^260 here). The tiles of
+ * raster_runs_on_lattice_edges check the pixels. */
+typedef struct {
+    int bits, bad;
+} across_count;
+
+static void count_across(void *ctx, const struct tc__slot *sl) {
+    across_count *c = ctx;
+    c->bits += __builtin_popcount(sl->across);
+    c->bad += (sl->across & sl->left) != 0 || sl->across > 7;
+}
+
+TEST(raster_across_bits_on_interior_edges) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 35);
+    for (int k = 0; k < 4; k++) {
+        scene s;
+        int n = 5 + k;
+        tmesh_grid(&s.g, n, n, k == 3 ? 0.3 : 0, k % 3 == 2 ? -1 : k % 3, &rng);
+        double scale = k == 1 ? 0x1p260 : 1;
+        for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] *= scale, s.g.xy[2 * v + 1] *= scale;
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        if (!scene_build(&s)) {
+            scene_free(&s);
+            continue;
+        }
+        across_count c = {0, 0};
+        const double lo[2] = {-INFINITY, -INFINITY}, hi[2] = {INFINITY, INFINITY};
+        tc__locator_query_box(s.L, lo, hi, count_across, &c);
+        int interior = 3 * n * n - 2 * n; /* (3 * 2n² sides - 4n on the boundary) / 2 */
+        CHECK_MSG(c.bad == 0, "grid %d: %d slots with an across bit on a left edge", k, c.bad);
+        CHECK_MSG(c.bits == (k == 1 ? 0 : interior), "grid %d: %d across bits, %d interior edges", k, c.bits,
+                  interior);
         scene_free(&s);
     }
 }
