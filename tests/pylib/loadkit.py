@@ -96,11 +96,12 @@ def post(port, path, body, timeout=300, conn=None):
 LONG_RENDERS = ("--max-pixels", "0", "--max-samples", "0")
 
 
-def render_body(side):
-    """A PNG render of the shadow scene, side x side: PNG, not raw, because its encoding
-    (zlib, one thread) costs more per pixel than the cubic, so a few seconds of work fit in
-    a side well under 8192 even on a fast machine (raw at 8192 took under 1 s on one)."""
-    vp = {"x0": -0.1, "y0": -0.1, "x1": 1.1, "y1": 1.1, "width": side, "height": side}
+def render_body(width, height=None):
+    """A PNG render of the shadow scene, width x height (square by default): PNG, not raw,
+    because its encoding (zlib, one thread) costs more per pixel than the cubic, so a few
+    seconds of work fit in a tile well under 8192 on a side on most machines (raw at 8192 took
+    under 1 s on one, PNG at 8192 0.67 s on another: calibrate_render then goes taller)."""
+    vp = {"x0": -0.1, "y0": -0.1, "x1": 1.1, "y1": 1.1, "width": width, "height": height or width}
     return json.dumps(dict(shadow(), viewport=vp, format="png")).encode()
 
 
@@ -110,26 +111,33 @@ def server_seconds(headers):
     return float(m.group(1)) / 1e3 if m else None
 
 
+# The largest render calibrate_render asks for: 8192 wide, up to four times as tall (the
+# viewport allows 2^20 a side; the daemon renders it in bands of ~8 MiB and holds the PNG).
+CAL_WIDTH, CAL_PIXELS = 8192, 8192 * 32768
+
+
 def calibrate_render(port, seconds, worker=False):
-    """A render body (render_body) whose request takes about `seconds` (side at most 8192: the
+    """A render body (render_body) whose request takes about `seconds` (at most CAL_PIXELS: the
     daemon must run with LONG_RENDERS, the pixel and sample limits lifted; a 4096^2 PNG of
     this mesh takes under a second), and the seconds it took. The time is the client's whole
     request (rendering, encoding and the transfer), or with worker=True the daemon's own
     (Server-Timing total: what holds a worker; the transfer of a big raw answer comes after,
     and can be most of the client's time). Small renders are dominated by per-triangle costs,
-    so one measurement does not extrapolate: the side is refined until a render takes 0.7 to
-    1.5 times `seconds`, or reaches 8192."""
-    side, took = 600, seconds
-    for _ in range(5):
-        st, h, _, t = post(port, "/v1/render", render_body(side))
+    so one measurement does not extrapolate: the pixel count is refined until a render takes
+    0.7 to 1.5 times `seconds`, or reaches CAL_PIXELS; square up to CAL_WIDTH, then taller."""
+    pixels, took = 600 * 600, seconds
+    for _ in range(6):
+        width = min(CAL_WIDTH, math.isqrt(pixels))
+        body = render_body(width, pixels // width)
+        st, h, _, t = post(port, "/v1/render", body)
         took = (server_seconds(h) or t) if worker else t
         if st != 200 or 0.7 * seconds <= took <= 1.5 * seconds:
             break
-        new = int(min(8192, max(64, side * math.sqrt(seconds / max(took, 1e-3)))))
-        if new == side:
+        new = int(min(CAL_PIXELS, max(64 * 64, pixels * seconds / max(took, 1e-3))))
+        if new == pixels:
             break
-        side = new
-    return render_body(side), took
+        pixels = new
+    return body, took
 
 
 # ---- head-of-line blocking -------------------------------------------------------------
