@@ -324,7 +324,7 @@ static void fill_corners(struct slot *s, const struct tc_mesh *m, int32_t t) {
     s->left = s->across = 0;
     for (int k = 0; k < 3; k++) {
         int j = k == 2 ? 0 : k + 1;
-        if (point_less(s->x[k], s->y[k], s->x[j], s->y[j])) s->left |= (uint16_t)(1u << k);
+        if (point_less(s->x[k], s->y[k], s->x[j], s->y[j])) s->left |= 1u << k;
     }
 }
 
@@ -365,7 +365,7 @@ static void fill_across(struct slot *s, const struct tc_mesh *m) {
         int a = tc__slot_corner(cw, k), b = tc__slot_corner(cw, k == 2 ? 0 : k + 1);
         int me = b == (a + 1) % 3 ? a : b; /* the mesh's edge e joins its corners e and e + 1 */
         int32_t u = m->nbr[3 * (size_t)s->t + (size_t)me];
-        if (u >= 0 && owned_across(s, k, m, u)) s->across |= (uint16_t)(1u << k);
+        if (u >= 0 && owned_across(s, k, m, u)) s->across |= 1u << k;
     }
 }
 

@@ -12,8 +12,8 @@
 struct tc__slot {
     double x[3], y[3];
     int32_t t;       /* the triangle's index in the mesh */
-    uint16_t left;   /* bit k: corner k < corner k+1, the triangle is left of edge k's frame */
-    uint16_t across; /* bit k: edge k is not left, and the mesh's triangle across it owns every point
+    uint32_t left;   /* bit k: corner k < corner k+1, the triangle is left of edge k's frame */
+    uint32_t across; /* bit k: edge k is not left, and the mesh's triangle across it owns every point
                       * strictly between its corners (locate.c's fill_across), so that the
                       * rasterizer need not claim them as closed-only candidates */
 };
