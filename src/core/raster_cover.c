@@ -223,9 +223,9 @@ TC__V4_INLINE tc__v4d vabs(tc__v4d a) {
  * pixels of the row (the others, read and written back unchanged, belong to
  * this band's thread alone). */
 TC__V4_INLINE void store_lanes_nc(const tri *tr, int nc, const double K[3], tc__v4d x, unsigned mask, int full,
-                                   float *out) {
+                                   float *out, int mix) {
     tc__v4d v[TC_MAX_CHANNELS];
-    tc__ct_fast_lanes_nc(&tr->ff, nc, K, x, v);
+    tc__ct_fast_lanes_mix(&tr->ff, nc, K, x, v, mix);
     for (int ch = 0; ch < nc; ch++) {
         v4f f = __builtin_convertvector(v[ch], v4f), big = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}, low;
         /* as tile_float, then tc__floored: a NaN or a -0 f comes through sse_max(c, f) and
@@ -252,11 +252,17 @@ TC__V4_INLINE void store_lanes_nc(const tri *tr, int nc, const double K[3], tc__
     }
 }
 
-/* store_lanes_nc for the job's channels, the common single channel with its loops unrolled. */
+/* store_lanes_nc for the job's channels, the common single channel with its loops unrolled. mix:
+ * every lane through tc__ct_fast_lanes_mix's permutation, whatever the subtriangles (the same
+ * bits). A run of one to three pixels (a triangle's first and last rows) takes it: on an irregular
+ * mesh whether such a group lies in one subtriangle is a branch that mispredicts, and a 512²
+ * tile of del1e4 rendered 1.045x as fast (1024² 1.028x, del1e3 1.014x, grids 0.996-1.007x: 10
+ * rounds in turns). Longer runs keep the branch: on a grid, whose identical triangles make it
+ * predictable, every group through the permutation was 6-24% slower (bench/perf/notes.md). */
 TC__V4_INLINE void store_lanes(const job *jb, const tri *tr, const double K[3], tc__v4d x, unsigned mask,
-                                 int full, float *out) {
-    if (jb->nc == 1) store_lanes_nc(tr, 1, K, x, mask, full, out);
-    else store_lanes_nc(tr, jb->nc, K, x, mask, full, out);
+                                 int full, float *out, int mix) {
+    if (jb->nc == 1) store_lanes_nc(tr, 1, K, x, mask, full, out, mix);
+    else store_lanes_nc(tr, jb->nc, K, x, mask, full, out, mix);
 }
 
 /* Whether d = a - b is exact: Knuth's TwoSum error of a + (-b) is 0. */
@@ -499,7 +505,7 @@ TC__V4_INLINE void row_lanes(const band *bd, const tri *tr, int32_t j, double y,
             for (int q = 0; q < k; q++)
                 if (inb >> q & 1u) orow[i + q] = s->t;
         }
-        if (inb && tr->fast) store_lanes(jb, tr, K, x, inb, k == 4, vrow + (size_t)i * (size_t)nc);
+        if (inb && tr->fast) store_lanes(jb, tr, K, x, inb, k == 4, vrow + (size_t)i * (size_t)nc, 0);
         if (i == lo) *first_out = outb & 1u;
         if (i + k - 1 == hi) *last_out = outb >> (k - 1) & 1u;
     }
@@ -516,10 +522,10 @@ TC__V4_INLINE void fill_run(const band *bd, const tri *tr, int32_t j, double y, 
     float *vrow = jb->values + (size_t)(j - jb->row0) * (size_t)jb->vp->width * (size_t)nc;
     double K[3];
     tc__ct_fast_row(&tr->ff, y, K);
-    if (n < 4) {
+    if (n < 4) { /* the row's one group: through the permutation, no branch on its subtriangles (mix) */
         for (int32_t i = a; i <= b; i++) orow[i] = t;
         int full = a + 4 <= jb->vp->width;
-        store_lanes(jb, tr, K, lanes_x(jb->xs, a, n), (1u << n) - 1, full, vrow + (size_t)a * (size_t)nc);
+        store_lanes(jb, tr, K, lanes_x(jb->xs, a, n), (1u << n) - 1, full, vrow + (size_t)a * (size_t)nc, 1);
         return;
     }
     v4si tv = {t, t, t, t};
@@ -528,7 +534,7 @@ TC__V4_INLINE void fill_run(const band *bd, const tri *tr, int32_t j, double y, 
         memcpy(orow + i, &tv, sizeof tv);
         tc__v4d x;
         memcpy(&x, jb->xs + i, sizeof x);
-        store_lanes(jb, tr, K, x, 15, 1, vrow + (size_t)i * (size_t)nc);
+        store_lanes(jb, tr, K, x, 15, 1, vrow + (size_t)i * (size_t)nc, 0);
         if (i == b - 3) break;
     }
 }

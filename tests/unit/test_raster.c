@@ -258,8 +258,10 @@ TEST(raster_fast_cubic_within_contract) {
 
 /* A pixel's fast value depends only on its triangle, row and x, not on its lane: four
  * lanes straddling inner edges (each lane's subtriangle selected) give the bits each
- * lane gives alone (one subtriangle for all four), on every triangle of a jittered mesh
- * with two channels, rows and x's drawn across the whole triangle. */
+ * lane gives alone (one subtriangle for all four), and every group the bits it gives through
+ * the permutation alone (tc__ct_fast_lanes_mix, as raster_cover.c's short runs take it), on
+ * every triangle of a jittered mesh with two channels, rows and x's drawn across the whole
+ * triangle. */
 TEST(raster_fast_lanes_mixed_equal_single) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 35);
@@ -279,8 +281,11 @@ TEST(raster_fast_lanes_mixed_equal_single) {
             double y = ymin + (ymax - ymin) * trng_uniform(&rng), K[3];
             tc__v4d x, v[TC_MAX_CHANNELS], one[TC_MAX_CHANNELS];
             for (int l = 0; l < 4; l++) x[l] = xmin + (xmax - xmin) * trng_uniform(&rng);
+            tc__v4d forced[TC_MAX_CHANNELS];
             tc__ct_fast_row(&ff, y, K);
             tc__ct_fast_lanes(&ff, K, x, v);
+            tc__ct_fast_lanes_mix(&ff, nc, K, x, forced, 1); /* every group through the permutation */
+            for (int ch = 0; ch < nc; ch++) bad += memcmp(&v[ch], &forced[ch], sizeof v[ch]) != 0;
             tc__v4d dx = x - tc__splat(ff.x0), d01 = tc__splat(K[0]) + tc__splat(ff.gx[0]) * dx;
             tc__v4d d02 = tc__splat(K[1]) + tc__splat(ff.gx[1]) * dx; /* as tc__ct_fast_lanes: l0 - l1, l0 - l2 */
             unsigned b0 = tc__mask4((d01 <= tc__splat(0)) & (d02 <= tc__splat(0)));
