@@ -312,8 +312,9 @@ static int point_less(double ax, double ay, double bx, double by) {
     return ax < bx || (ax == bx && ay < by);
 }
 
-/* A slot's corners (counter-clockwise), triangle and left bits for triangle t; no across bits. */
-static void fill_corners(struct slot *s, const struct tc_mesh *m, int32_t t) {
+/* Fills a slot with triangle t, corners turned counter-clockwise; no across bits yet
+ * (fill_across, once every slot is filled). */
+static void fill_slot(struct slot *s, const struct tc_mesh *m, int32_t t) {
     const int32_t *v = m->tri + 3 * (size_t)t;
     for (int k = 0; k < 3; k++) {
         int32_t c = v[tc__slot_corner(m->orient[t] < 0, k)];
@@ -337,42 +338,38 @@ static int tame_coordinate(double v) {
     return a == 0 || (a >= 0x1p-250 && a <= 0x1p250);
 }
 
-/* Whether the triangle u across edge k (corners a -> b) of slot s owns every point strictly
- * between a and b: u's own slot runs b -> a as a left edge with its third corner strictly left
- * of it (exact signs), so at such a point that edge's sign is 0, which u's rule admits, and the
- * other two are > 0 (the shared-edge case of the argument above), whatever m->orient says. */
-static int owned_across(const struct slot *s, int k, const struct tc_mesh *m, int32_t u) {
-    struct slot su;
-    fill_corners(&su, m, u);
+/* Whether su, the slot of the triangle across edge k (corners a -> b) of slot s, owns every
+ * point strictly between a and b: su runs b -> a as a left edge with its third corner strictly
+ * left of it (exact signs), so at such a point that edge's sign is 0, which su's rule admits, and
+ * the other two are > 0 (the shared-edge case of the argument above), whatever m->orient says. */
+static int owned_across(const struct slot *s, int k, const struct slot *su) {
     int j = k == 2 ? 0 : k + 1;
     for (int q = 0; q < 3; q++) {
         int n = q == 2 ? 0 : q + 1, w = n == 2 ? 0 : n + 1;
-        if (su.x[q] != s->x[j] || su.y[q] != s->y[j] || su.x[n] != s->x[k] || su.y[n] != s->y[k]) continue;
+        if (su->x[q] != s->x[j] || su->y[q] != s->y[j] || su->x[n] != s->x[k] || su->y[n] != s->y[k]) continue;
         for (int c = 0; c < 3; c++)
-            if (!tame_coordinate(su.x[c]) || !tame_coordinate(su.y[c])) return 0;
-        return (su.left >> q & 1u) && orient_sign(su.x[q], su.y[q], su.x[n], su.y[n], su.x[w], su.y[w]) > 0;
+            if (!tame_coordinate(su->x[c]) || !tame_coordinate(su->y[c])) return 0;
+        return (su->left >> q & 1u) && orient_sign(su->x[q], su->y[q], su->x[n], su->y[n], su->x[w], su->y[w]) > 0;
     }
     return 0;
 }
 
-/* The slot's across bits: for each edge that is not left, whether the mesh's neighbour across
- * it (topology.c's nbr, by shared vertices) owns the points strictly inside it. */
-static void fill_across(struct slot *s, const struct tc_mesh *m) {
-    if (!m->nbr) return;
-    int cw = m->orient[s->t] < 0;
-    for (int k = 0; k < 3; k++) {
-        if (s->left >> k & 1u) continue;
-        int a = tc__slot_corner(cw, k), b = tc__slot_corner(cw, k == 2 ? 0 : k + 1);
-        int me = b == (a + 1) % 3 ? a : b; /* the mesh's edge e joins its corners e and e + 1 */
-        int32_t u = m->nbr[3 * (size_t)s->t + (size_t)me];
-        if (u >= 0 && owned_across(s, k, m, u)) s->across |= 1u << k;
+/* Every slot's across bits: for each edge that is not left, whether the mesh's neighbour across
+ * it (topology.c's nbr, by shared vertices) owns the points strictly inside it. slot_of: scratch
+ * for nt entries, triangle -> slot. */
+static void fill_across(struct tc_locator *L, const struct tc_mesh *m, int32_t *slot_of) {
+    for (int32_t i = 0; i < m->nt; i++) slot_of[L->slots[i].t] = i;
+    for (int32_t i = 0; i < m->nt; i++) {
+        struct slot *s = &L->slots[i];
+        int cw = m->orient[s->t] < 0;
+        for (int k = 0; k < 3; k++) {
+            if (s->left >> k & 1u) continue;
+            int a = tc__slot_corner(cw, k), b = tc__slot_corner(cw, k == 2 ? 0 : k + 1);
+            int me = b == (a + 1) % 3 ? a : b; /* the mesh's edge e joins its corners e and e + 1 */
+            int32_t u = m->nbr[3 * (size_t)s->t + (size_t)me];
+            if (u >= 0 && owned_across(s, k, &L->slots[slot_of[u]])) s->across |= 1u << k;
+        }
     }
-}
-
-/* Fills a slot with triangle t, corners turned counter-clockwise. */
-static void fill_slot(struct slot *s, const struct tc_mesh *m, int32_t t) {
-    fill_corners(s, m, t);
-    fill_across(s, m);
 }
 
 /* Per-triangle boxes and centres (exact: min / max of the corners, so a point
@@ -420,6 +417,9 @@ static int build_index(struct tc_locator *L, const struct tc_mesh *m) {
         struct node *fit = rc == TC_OK ? realloc(L->nodes, (size_t)b.nnodes * sizeof *fit) : NULL;
         if (fit) L->nodes = fit;
         for (int32_t i = 0; i < m->nt; i++) fill_slot(&L->slots[i], m, perm[i]);
+        /* perm is done with: it becomes fill_across's triangle -> slot map (a mesh made without
+         * topology, as some tests make one, has no neighbours and no across bits) */
+        if (m->nbr) fill_across(L, m, perm);
     }
     tc__free(box);
     tc__free(cen);
