@@ -95,6 +95,16 @@ TEST(prescan_api_refuses_before_parsing) {
     CHECK(r2.diags.count >= 1 && strstr(r2.diags.items[0].message, "4 triangles (2 per quad)"));
     tc_diags_free(&r2.diags);
     tc_strbuf_free(&out);
+    /* a typed array's shape beyond any count: the doubled count saturates (it overflowed: fuzz_api) */
+    const char *huge = "{\"vertices\":[[0,0],[1,0],[1,1],[0,1]],\"quads\":{\"dtype\":\"int32\",\"shape\":[1e309,4],"
+                       "\"data\":\"\"},\"values\":[1,2,3,4]}";
+    tc_api_result r3 = {0};
+    tc_strbuf_init(&out);
+    CHECK(tc_api_ordinates(huge, strlen(huge), &tl, &out, &r3) == 413);
+    CHECK(r3.diags.count >= 1 && !strcmp(r3.diags.items[0].path, "quads"));
+    CHECK(r3.diags.count >= 1 && strstr(r3.diags.items[0].message, "9223372036854775807 triangles (2 per quad)"));
+    tc_diags_free(&r3.diags);
+    tc_strbuf_free(&out);
 }
 
 /* A limited array given as a typed array counts its shape's first length, data unread. */
