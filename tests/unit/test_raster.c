@@ -641,6 +641,36 @@ TEST(raster_runs_on_lattice_edges) {
     }
 }
 
+/* Vertices moved onto pixel centres of tiles that are no lattice (7 to ~210 pixels wide, some
+ * far from the origin), so every edge runs through or within rounding of other centres and
+ * the orientations there are a few ulps, their computed signs often wrong: the signs that
+ * raster_cover.c's classify_at certifies by orient_sign's bound must leave exactly these to the
+ * exact tests. classify_at certifying by 2^-56 (|l| + |r|) instead of ORIENT_ERRBOUND's ~2^-51.4
+ * fails it; no other unit test did, down to 2^-60. */
+TEST(raster_certified_signs_near_edges) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 37);
+    for (int k = 0; k < 16; k++) {
+        scene s;
+        int n = 2 + k % 5, per = 3 + trng_int(&rng, 200 / n), w = n * per + 1 + trng_int(&rng, 3);
+        double far = k % 4 == 3 ? 1e5 * trng_uniform(&rng) : 0, span = 0.3 + trng_uniform(&rng);
+        tc_viewport vp = {far, far, far + span, far + span * (0.5 + trng_uniform(&rng)), w, w};
+        tmesh_grid(&s.g, n, n, 0, k % 3 == 2 ? -1 : k % 3, &rng);
+        for (int b = 0; b <= n; b++)
+            for (int a = 0; a <= n; a++) {
+                int32_t v = tmesh_gv(n, a, b);
+                tc_viewport_pixel_center(&vp, a * per, w - 1 - b * per, &s.g.xy[2 * v], &s.g.xy[2 * v + 1]);
+            }
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        if (!scene_build(&s)) {
+            scene_free(&s);
+            continue;
+        }
+        check_tile(&s, &vp, 1 + k % 3);
+        scene_free(&s);
+    }
+}
+
 /* The locator's across bits (locate.h), which spare raster_cover.c the closed-only claims of
  * centres inside an edge whose neighbour owns them: on a grid every interior edge has one,
  * on the side that is not left, and no boundary edge has any; none either where a coordinate
