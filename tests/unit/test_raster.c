@@ -644,9 +644,9 @@ TEST(raster_runs_on_lattice_edges) {
 /* Vertices moved onto pixel centres of tiles that are no lattice (7 to ~210 pixels wide, some
  * far from the origin), so every edge runs through or within rounding of other centres and
  * the orientations there are a few ulps, their computed signs often wrong: the signs that
- * raster_cover.c's classify_at certifies by orient_sign's bound must leave exactly these to the
- * exact tests. classify_at certifying by 2^-56 (|l| + |r|) instead of ORIENT_ERRBOUND's ~2^-51.4
- * fails it; no other unit test did, down to 2^-60. */
+ * raster_cover.c certifies by orient_sign's bound (classify_at's lanes, edge_sign's pixels) must
+ * leave exactly these to the exact tests. Either certifying by 2^-56 (|l| + |r|) instead of
+ * ORIENT_ERRBOUND's ~2^-51.4 fails it; no other unit test caught either, down to 2^-60. */
 TEST(raster_certified_signs_near_edges) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 37);
