@@ -127,6 +127,11 @@ static int check_edges(const struct tc_mesh *m, char *why, size_t n) {
                           (int)a, (int)b, (int)u, j, (int)a2, (int)b2);
         if (m->tri[3 * t + (k + 2) % 3] == m->tri[3 * u + (j + 2) % 3])
             return broken(why, n, "triangles %d and %d repeat each other", (int)t, (int)u);
+        /* Opposite sides of the edge as their orientations have them (topology.c side_of_third):
+         * running it the same way, opposite orientations; the other way round, the same. */
+        if ((m->orient[t] == m->orient[u]) == (a == a2))
+            return broken(why, n, "triangles %d and %d lie on one side of their shared edge [%d, %d] as their "
+                          "orientations have them", (int)t, (int)u, (int)a, (int)b);
         if (m->flag[back] != f)
             return broken(why, n, "flags not symmetric: edge (%d, %d) %d, (%d, %d) %d", (int)t, (int)k, f, (int)u, j,
                           (int)m->flag[back]);

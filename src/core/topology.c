@@ -136,14 +136,17 @@ static int edge_index(const struct tc_mesh *m, int32_t t, int32_t a, int32_t b) 
     return -1;
 }
 
-/* Signed area test of the triangle's third vertex against its edge k, taken
- * in the direction a -> b so both sides of an edge use the same frame. */
-static double side_of_third(const struct tc_mesh *m, int32_t t, int k, int32_t a, int32_t b) {
-    int32_t w = m->tri[3 * (size_t)t + (size_t)(k + 2) % 3];
-    double e[2], d[2];
-    tc__sub(e, tc__vxy(m, b), tc__vxy(m, a));
-    tc__sub(d, tc__vxy(m, w), tc__vxy(m, a));
-    return tc__cross(e, d);
+/* The side of the line a -> b that triangle t's third vertex lies on (1 left, -1 right), t's
+ * edge k joining a and b in either direction: t's orientation (m->orient), reversed where t
+ * runs the edge b -> a. Taken from m->orient, not from a cross product of its own, because
+ * the fans and wedges walk the mesh by that orientation: two triangles linked across an edge
+ * must lie on opposite sides of it as m->orient has them. A cross product of their own could
+ * disagree with it for a third vertex within rounding of the edge's line (a subnormal
+ * offset: the fuzzer found two folded triangles running their shared edge the same way,
+ * both seen from that edge's start on opposite sides, linked, and the wedges inconsistent). */
+static int side_of_third(const struct tc_mesh *m, int32_t t, int k, int32_t a) {
+    int forward = m->tri[3 * (size_t)t + (size_t)k] == a;
+    return forward ? m->orient[t] : -m->orient[t];
 }
 
 /* The other triangles on each edge side e = 3t+k, found per vertex in
@@ -269,15 +272,10 @@ static int link_edge(struct tc_mesh *m, const edge_sides *es, int32_t t, int k, 
                             (int)tc__elem_index(m, others[0]), (int)tc__elem_index(m, others[1]),
                             nothers > 2 ? ", ..." : "");
     }
-    if ((side_of_third(m, t, k, a, b) > 0) == (side_of_third(m, t2, k2, a, b) > 0)) {
-        /* Reported from the lower triangle, if it saw the overlap too: seen from
-         * the edge's other end, a third vertex within rounding of the edge's line
-         * (a subnormal offset) can come out on the other side, and then the lower
-         * one found nothing; the refusal must still say why. */
-        int32_t a2 = m->tri[3 * (size_t)t2 + (size_t)k2], b2 = m->tri[3 * (size_t)t2 + (size_t)(k2 + 1) % 3];
-        if (t2 < t && (side_of_third(m, t2, k2, a2, b2) > 0) == (side_of_third(m, t, k, a2, b2) > 0)) return TC_EINVAL;
-        tc__elem_path(m, t2 < t ? t : t2, path, sizeof path);
-        tc__elem_path(m, t2 < t ? t2 : t, other, sizeof other);
+    if (side_of_third(m, t, k, a) == side_of_third(m, t2, k2, a)) {
+        if (t2 < t) return TC_EINVAL; /* both see it: reported once, from the lower triangle */
+        tc__elem_path(m, t2, path, sizeof path);
+        tc__elem_path(m, t, other, sizeof other);
         return tc_diags_add(dg, TC_SEV_ERROR, path,
                             "overlaps %s: both lie on the same side of their shared edge [%d, %d]", other, (int)a,
                             (int)b);

@@ -62,6 +62,49 @@ TEST(invariants_hold_on_built_meshes) {
     tmesh_free(&g);
 }
 
+/* Small meshes of random triangles over vertices drawn from a few coordinates, among them
+ * offsets of 1e-300 and subnormals (1.1e-319) off the lines through the others, each triangle's
+ * corners in random order: whatever tc_mesh_new accepts keeps every invariant of the mesh and
+ * of its wedges. The fuzzer found two folded triangles, running their shared edge the same way
+ * with a third vertex a subnormal off its line, accepted and linked (the wedges inconsistent:
+ * a TC_ASSERT in the debug build, and in a release build whatever the wedges then gave). */
+TEST(invariants_hold_on_accepted_near_degenerate_meshes) {
+    static const double coord[] = {0, 1, 2, 0.5, 1e-300, 1.1e-319, -1.1e-319, 1 + 0x1p-52};
+    trng r;
+    trng_seed(&r, tc_test_seed() + 14);
+    int accepted = 0;
+    for (int it = 0; it < 4000; it++) {
+        double xy[12], v[6];
+        int32_t tri[15];
+        int nv = 4 + trng_int(&r, 3), nt = 2 + trng_int(&r, 4);
+        for (int i = 0; i < 2 * nv; i++) xy[i] = coord[trng_int(&r, 8)];
+        for (int i = 0; i < nv; i++) v[i] = trng_uniform(&r);
+        for (int i = 0; i < 3 * nt; i++) tri[i] = trng_int(&r, nv);
+        tc_mesh_desc d;
+        tc_mesh_desc_init(&d);
+        d.nverts = nv, d.xy = xy, d.values = v, d.nchan = 1, d.ntris = nt, d.tris = tri;
+        d.degenerate = TC_DEGENERATE_DROP;
+        tc_diags dg;
+        tc_diags_init(&dg);
+        tc_mesh *m = NULL;
+        if (tc_mesh_new(&d, &m, &dg) == TC_OK) {
+            char why[256];
+            accepted++;
+            CHECK_MSG(tc__mesh_check(m, why, sizeof why) == 0, "mesh %d: %s", it, why);
+            for (int honor = TC_HONOR_NONE; honor <= TC_HONOR_CM1; honor++) {
+                tc__wedge_set ws;
+                if (tc__wedges_build(m, honor, &ws) != TC_OK) continue;
+                CHECK_MSG(tc__wedges_check(m, &ws, why, sizeof why) == 0, "mesh %d, wedges (honor %d): %s", it, honor,
+                          why);
+                tc__wedges_free(&ws);
+            }
+        }
+        tc_mesh_free(m);
+        tc_diags_free(&dg);
+    }
+    CHECK_MSG(accepted > 400, "only %d meshes accepted", accepted);
+}
+
 /* Each corruption goes into a copy of one array, swapped in for the check and out again. */
 TEST(invariants_mesh_check_names_the_broken_invariant) {
     tmesh g;

@@ -752,6 +752,25 @@ TEST(validate_subnormal_offset_never_silent) {
         }
 }
 
+/* Two triangles running their shared edge [3, 2] the same way, both counter-clockwise: a fold,
+ * whose third vertices (0, 0) and (1, 0) lie below the edge's line. Vertex 2 a subnormal above
+ * the x axis puts (0, 0) within rounding of that line: a cross product taken from the edge's
+ * start saw it on the line, the two on opposite sides, and linked them (the fuzzer's input;
+ * the wedges came out inconsistent). The sides now come from the triangles' orientations, as
+ * the fans walk them: refused, with the offset 1e-3 as with 1.1e-319, in either order. */
+TEST(validate_fold_within_rounding_of_the_edge) {
+    const double offsets[2] = {1e-3, 1.1e-319};
+    for (int o = 0; o < 2; o++)
+        for (int swap = 0; swap < 2; swap++) {
+            double xy[8] = {0, 0, 1, 0, 0, offsets[o], 1, 1};
+            int32_t tri[6] = {0, 3, 2, 1, 3, 2};
+            if (swap) tri[0] = 1, tri[3] = 0;
+            tc_mesh_desc d = square();
+            d.xy = xy, d.tris = tri;
+            FAILS(&d, "triangles[1]", "overlaps triangles[0]", "shared edge [3, 2]");
+        }
+}
+
 /* ---- 15. errors of tc_recon_new -------------------------------------------------------- */
 
 TEST(validate_recon_tangents_given_missing) {
