@@ -85,3 +85,28 @@ TEST(base64_refusals) {
     CHECK(tc_base64_decode("Zm8=", 4, out, &bad, &why) == 0 && out[0] == 'f' && out[1] == 'o');
     CHECK(tc_base64_decoded_len("Zm9", 3) == 0);
 }
+
+/* A character outside the alphabet in the first place of the last, padded group: refused
+ * with its offset, like anywhere else. The check of that group's characters must start at the
+ * group's first one: its bits are not among those the padding drops, so the canonical-bits
+ * test would not notice it ("*QA=" would decode to a garbage byte, "*Q==" would be refused
+ * for the wrong reason). */
+TEST(base64_refuses_bad_first_char_of_padded_group) {
+    REFUSED("*QA=", 0, "outside the base64 alphabet");
+    REFUSED("*Q==", 0, "outside the base64 alphabet");
+    REFUSED("Zm9v*QA=", 4, "outside the base64 alphabet");
+    REFUSED("Zm9v\x80g==", 4, "outside the base64 alphabet");
+    REFUSED("Zm9v=g==", 4, "'=' before the end");
+}
+
+/* Each bit that the padding drops, alone: "ZB==" .. "ZI==" set one of the four low bits of the
+ * second character (bits 12 to 15 of the group), "ZmB=" and "ZmC=" one of the two low bits of
+ * the third (bits 6 and 7). Every one must be refused as non-canonical, at the character that
+ * carries it, or two texts would decode to the same bytes. */
+TEST(base64_refuses_every_dropped_bit) {
+    static const char two[4][5] = {"ZB==", "ZC==", "ZE==", "ZI=="}, one[2][5] = {"ZmB=", "ZmC="};
+    for (int k = 0; k < 4; k++) REFUSED(two[k], 1, "non-zero bits");
+    for (int k = 0; k < 2; k++) REFUSED(one[k], 2, "non-zero bits");
+    REFUSED("Zm9vZmC=", 6, "non-zero bits");
+    REFUSED("Zm9vZI==", 5, "non-zero bits");
+}

@@ -753,3 +753,33 @@ TEST(locate_large_mesh) {
     tc_locator_free(L);
     tm_free(&tm);
 }
+
+/* The bounds tc_locator_new checks before it reads anything: a vertex index equal to the vertex
+ * count (one past the last, the classic off-by-one) or negative is refused as TC_EINVAL, not
+ * read from beyond the coordinate array, and a negative triangle count is TC_EINVAL too (not
+ * TC_ELIMIT, which a negative count cast to size_t would otherwise give). */
+TEST(locate_rejects_bad_counts_and_indices) {
+    tmesh tm;
+    tm_init(&tm);
+    tm_tri(&tm, tm_vertex(&tm, 0, 0), tm_vertex(&tm, 1, 0), tm_vertex(&tm, 0, 1));
+    tc_locator *const junk = (tc_locator *)(uintptr_t)16;
+    tc_locator *L = junk;
+    for (int k = 0; k < 3; k++) {
+        int32_t keep = tm.m.tri[k];
+        tm.m.tri[k] = tm.m.nv; /* within the capacity of 64 vertices: a wrong bound reads no foreign memory */
+        L = junk;
+        CHECK_MSG(tc_locator_new(&tm.m, &L) == TC_EINVAL && L == NULL, "corner %d = nv accepted", k);
+        tm.m.tri[k] = -1;
+        L = junk;
+        CHECK_MSG(tc_locator_new(&tm.m, &L) == TC_EINVAL && L == NULL, "corner %d = -1 accepted", k);
+        tm.m.tri[k] = keep;
+    }
+    CHECK(tc_locator_new(&tm.m, &L) == TC_OK && L);
+    tc_locator_free(L);
+    int32_t nt = tm.m.nt;
+    tm.m.nt = -1;
+    L = junk;
+    CHECK(tc_locator_new(&tm.m, &L) == TC_EINVAL && L == NULL);
+    tm.m.nt = nt;
+    tm_free(&tm);
+}

@@ -148,3 +148,22 @@ TEST(prescan_strings_end_at_an_unescaped_quote) {
     CHECK(n == 3);
     free(s);
 }
+
+/* The byte count is the first check of a limit, the parsed request's count the backstop: a key
+ * the byte scanner does not read as "reference" (written with an escape, which it does not
+ * decode) gets past the first and must be caught by the second, which names the same path
+ * ("reference.points", not "points") and counts the same things. */
+TEST(prescan_api_backstop_names_reference_points) {
+    const char *body = "{\"vertices\":[[0,0],[1,0],[0,1]],\"triangles\":[[0,1,2]],\"values\":[1,2,3],"
+                       "\"refer\\u0065nce\":{\"points\":[[0.1,0.1],[0.2,0.2],[0.3,0.3]],\"values\":[1,2,3]}}";
+    tc_api_limits lim = {.max_points = 2, .render_threads = 1};
+    tc_strbuf out;
+    tc_strbuf_init(&out);
+    tc_api_result res = {0};
+    CHECK(tc_api_compare(body, strlen(body), &lim, &out, &res) == 413);
+    CHECK_MSG(res.diags.count >= 1 && !strcmp(res.diags.items[0].path, "reference.points"), "path '%s'",
+              res.diags.count ? res.diags.items[0].path : "");
+    CHECK(res.diags.count >= 1 && strstr(res.diags.items[0].message, "3 reference points; this server accepts at most 2"));
+    tc_diags_free(&res.diags);
+    tc_strbuf_free(&out);
+}

@@ -1,6 +1,7 @@
 /* test_raster.c — tile rendering: every pixel centre owned by the triangle
  * tc_locate names, valued as tc_eval_points within the fast cubic's 1e-12 of the
  * data scale (exactly for the other methods and slivers), the same for any thread count. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -801,4 +802,242 @@ TEST(eval_points_order_changes_no_bit) {
     }
     CHECK_MSG(bad == 0, "%d of %d points differ from one-by-one evaluation", bad, N);
     scene_free(&s);
+}
+
+/* Tiles that only touch the mesh: the last column of pixel centres exactly on the mesh's left
+ * side x = 0, the first on its right side x = 1, the top row on its bottom y = 0, the bottom
+ * row on its top y = 1. Those centres lie on the outer boundary, owned in the closed sense only
+ * (tc_locate names the lowest index containing them), and the triangles there have a box whose
+ * side is exactly the band's extreme centre: the locator's box query (locate.c's box_meets)
+ * must take boxes that meet in a single line, or the whole column or row would get the
+ * background instead. */
+TEST(raster_tile_touching_mesh_boundary) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 38);
+    scene s;
+    tmesh_grid(&s.g, 4, 4, 0, -1, &rng);
+    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+    if (!scene_build(&s)) {
+        scene_free(&s);
+        return;
+    }
+    const double e = 1.0 / 16; /* half a pixel of 1/8 */
+    const tc_viewport vps[4] = {
+        {-1 + e, e, e, 1 + e, 8, 8},          /* last column at x = 0 */
+        {1 - e, e, 2 - e, 1 + e, 8, 8},       /* first column at x = 1 */
+        {e, e - 1, 1 + e, e, 8, 8},           /* top row at y = 0 */
+        {e, 1 - e, 1 + e, 2 - e, 8, 8},       /* bottom row at y = 1 */
+    };
+    for (int v = 0; v < 4; v++) {
+        double x, y;
+        int32_t i = v == 0 ? 7 : 0, j = v == 2 ? 0 : 7;
+        tc_viewport_pixel_center(&vps[v], v < 2 ? i : 3, v < 2 ? 3 : j, &x, &y);
+        CHECK_MSG(v == 0 ? x == 0 : v == 1 ? x == 1 : v == 2 ? y == 0 : y == 1, "tile %d: centre (%g, %g)", v, x, y);
+        CHECK(tc_locate(s.L, x, y) >= 0); /* the closed mesh holds it */
+        check_tile(&s, &vps[v], 1);
+    }
+    scene_free(&s);
+}
+
+/* raster_cover.c's lattice_exact trusts the plain floating-point orientation of a triangle at
+ * the tile's centres only when every corner and centre is a multiple of 2^g below 2^E with
+ * E - g <= 25, so that no product rounds. Here E - g = 27 (multiples of 2^-26 below 2): the
+ * quad's diagonal A-B passes one unit (2^-52) of orientation from the centre P = (x_11, y_17),
+ * exactly on its right, while both products of the orientation round and their computed
+ * difference is 0 in either direction, which would give P to the left triangle. The owner
+ * must still be tc_locate's (the signs certified or taken exactly instead). */
+TEST(raster_lattice_bound_beyond_exact_products) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 39);
+    scene s;
+    tmesh_grid(&s.g, 1, 1, 0, 0, &rng); /* diagonal (0, 0) - (1, 1): vertices 0 and 3 */
+    const double u = 0x1p-26;
+    const double xy[4][2] = {{-111884504 * u, -124772064 * u}, /* A */
+                             {1.75, -1.75},                    /* right of A -> B */
+                             {-1.75, 1.75},                    /* left of it */
+                             {-15904807 * u, 133141712 * u}};  /* B */
+    for (int k = 0; k < 4; k++) {
+        int32_t v = tmesh_gv(1, k % 2, k / 2);
+        s.g.xy[2 * v] = xy[k][0], s.g.xy[2 * v + 1] = xy[k][1];
+    }
+    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+    if (!scene_build(&s)) {
+        scene_free(&s);
+        return;
+    }
+    /* centres x_i = -1.5 + u + i / 16, y_j = 1.5 - u - j / 16: 48 x 48 of them, all below 2 */
+    tc_viewport vp = {-1.5 + u - 1.0 / 32, 1.5 - u + 1.0 / 32 - 3, -1.5 + u - 1.0 / 32 + 3, 1.5 - u + 1.0 / 32, 48, 48};
+    double px, py;
+    tc_viewport_pixel_center(&vp, 11, 17, &px, &py);
+    CHECK(px == -54525951 * u && py == 29360127 * u);
+    const double *A = xy[0], *B = xy[3];
+    /* the exact orientation of P against A -> B is -1 unit of 2^-52, the computed one 0 */
+    int64_t ax = (int64_t)(A[0] / u), ay = (int64_t)(A[1] / u), bx = (int64_t)(B[0] / u), by = (int64_t)(B[1] / u);
+    int64_t qx = (int64_t)(px / u), qy = (int64_t)(py / u);
+    __extension__ __int128 det = (__int128)(bx - ax) * (qy - ay) - (__int128)(by - ay) * (qx - ax);
+    CHECK(det == -1);
+    CHECK((B[0] - A[0]) * (py - A[1]) - (B[1] - A[1]) * (px - A[0]) == 0);
+    check_tile(&s, &vp, 1);
+    scene_free(&s);
+}
+
+/* A pixel centre one unit of orientation outside a mesh's boundary edge, for a triangle small
+ * in pixels (raster_cover.c's cover_few: each centre classified by classify_one's edge_sign).
+ * The edge runs from A = (0, 0) to B = (2^31, c) and P = (d, b) with b = fl(c d) 2^-31: the
+ * product a b = 2^31 b is exact, c d = 987654327000000006913289 rounds down by 1, so the
+ * computed orientation is exactly 0 while the true one is -1: P is outside. edge_sign may
+ * take a computed sign as exact only when neither product rounded (checked by fma for each),
+ * else the exact test decides; P must get the background, as tc_locate finds no triangle. */
+TEST(raster_edge_sign_rounded_product_not_trusted) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 40);
+    scene s;
+    tmesh_grid(&s.g, 1, 1, 0, 0, &rng); /* triangles (v00, v10, v11), (v00, v11, v01) */
+    const double c = 1000000007.0, d = 987654327.0, b = c * d * 0x1p-31;
+    const double xy[4][2] = {{0, 0}, {0x1p31, c}, {0, 0x1p30}, {0x1p31, c + 0x1p30}}; /* v00 v10 v01 v11 */
+    for (int k = 0; k < 4; k++) {
+        int32_t v = tmesh_gv(1, k % 2, k / 2);
+        s.g.xy[2 * v] = xy[k][0], s.g.xy[2 * v + 1] = xy[k][1];
+    }
+    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+    if (!scene_build(&s)) {
+        scene_free(&s);
+        return;
+    }
+    __extension__ __int128 det = (__int128)(b * 0x1p31) - (__int128)1000000007 * 987654327; /* a b - c d */
+    CHECK(det == -1); /* P strictly right of A -> B, outside the mesh */
+    CHECK(0x1p31 * b - c * d == 0); /* while the computed orientation is 0 */
+    /* one row of 8 pixels of 2^29: the centre of pixel 2 is P */
+    tc_viewport vp = {d - 2.5 * 0x1p29, b + 0x1p28 - 0x1p29, d + 5.5 * 0x1p29, b + 0x1p28, 8, 1};
+    double px, py;
+    tc_viewport_pixel_center(&vp, 2, 0, &px, &py);
+    CHECK(px == d && py == b);
+    CHECK(tc_locate(s.L, px, py) == -1);
+    check_tile(&s, &vp, 1);
+    scene_free(&s);
+}
+
+/* The fast cubic's error grows with a triangle's aspect (longest edge squared over twice the
+ * area: ct_fast.h), so raster_cover.c gives it only triangles of aspect <= TC__CT_FAST_ASPECT
+ * (64). A grid stretched 30 times along x and squeezed 30 times along y has triangles of
+ * aspect ~900: none may be set up in the fast form, and the tile must still be within the
+ * contract; the same grid unstretched (aspect ~2) is served by the fast form. */
+TEST(raster_slivers_not_in_fast_form) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 42);
+    for (int k = 0; k < 2; k++) {
+        scene s;
+        double st = k ? 30 : 1;
+        tmesh_grid(&s.g, 8, 8, 0.2, -1, &rng);
+        for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] *= st, s.g.xy[2 * v + 1] /= st;
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        if (!scene_build(&s)) {
+            scene_free(&s);
+            continue;
+        }
+        tc_viewport vp = {-0.01 * st, -0.01 / st, 1.01 * st, 1.01 / st, 64, 64};
+        tc__raster_force_generic(1); /* the fast form's portable build, counting its setups */
+        check_tile(&s, &vp, 1);
+        long fast = tc__raster_fast_setups();
+        tc__raster_force_generic(0);
+        if (k) CHECK_MSG(fast == 0, "%ld triangles of aspect ~900 in the fast form", fast);
+        else CHECK_MSG(fast > 0, "no triangle of the plain grid in the fast form");
+        scene_free(&s);
+    }
+}
+
+/* The other end of the range whose signs are taken exactly with a lattice's (locate.c's
+ * tame_coordinate: 0, or 2^-250 <= |v| <= 2^250): a grid scaled by 2^-255 has every nonzero
+ * coordinate below 2^-250, so no across bits at all; scaled by 2^-240 it has every interior
+ * edge's, as at scale 1 (raster_across_bits_on_interior_edges). */
+TEST(raster_across_bits_small_coordinates) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 43);
+    for (int k = 0; k < 2; k++) {
+        scene s;
+        int n = 6;
+        tmesh_grid(&s.g, n, n, 0, k, &rng);
+        double scale = k ? 0x1p-240 : 0x1p-255;
+        for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] *= scale, s.g.xy[2 * v + 1] *= scale;
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        if (!scene_build(&s)) {
+            scene_free(&s);
+            continue;
+        }
+        across_count c = {0, 0};
+        const double lo[2] = {-INFINITY, -INFINITY}, hi[2] = {INFINITY, INFINITY};
+        tc__locator_query_box(s.L, lo, hi, count_across, &c);
+        int interior = 3 * n * n - 2 * n;
+        CHECK_MSG(c.bad == 0, "scale 2^%d: %d slots with an across bit on a left edge", k ? -240 : -255, c.bad);
+        CHECK_MSG(c.bits == (k ? interior : 0), "scale 2^%d: %d across bits, %d interior edges", k ? -240 : -255,
+                  c.bits, interior);
+        scene_free(&s);
+    }
+}
+
+/* The lanes' exact-product test (raster_cover.c's prod_exact4, Dekker's product with all four
+ * partial products) on a product whose rounding error is exactly the product of the factors'
+ * low halves: c = d = 1 + 2^-30 (high half 1, low half 2^-30) give c d = 1 + 2^-29 + 2^-60,
+ * rounded to 1 + 2^-29. The mesh's lower boundary runs from (0, 0) to N = (2, 1 + 2^-30) and
+ * the pixel centre P = (1 + 2^-30, 1/2 + 2^-30) lies 2^-60 of orientation below it (outside),
+ * while the computed orientation 2 (1/2 + 2^-30) - fl(c d) is 0: only a product test that
+ * sees the rounding leaves P to the exact test, which gives it the background. */
+TEST(raster_lane_product_rounding_seen) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 44);
+    scene s;
+    tmesh_grid(&s.g, 1, 1, 0, 0, &rng); /* triangles (v00, v10, v11), (v00, v11, v01) */
+    const double e = 0x1p-30;
+    const double xy[4][2] = {{0, 0}, {2, 1 + e}, {0, 2}, {2, 3}}; /* v00 v10 v01 v11 */
+    for (int k = 0; k < 4; k++) {
+        int32_t v = tmesh_gv(1, k % 2, k / 2);
+        s.g.xy[2 * v] = xy[k][0], s.g.xy[2 * v + 1] = xy[k][1];
+    }
+    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+    if (!scene_build(&s)) {
+        scene_free(&s);
+        return;
+    }
+    /* 40 x 40 centres of 1/16, pixel (16, 16) at P */
+    tc_viewport vp = {-0.03125 + e, -0.96875 + e, 2.46875 + e, 1.53125 + e, 40, 40};
+    double px, py;
+    tc_viewport_pixel_center(&vp, 16, 16, &px, &py);
+    CHECK(px == 1 + e && py == 0.5 + e);
+    CHECK(2 * py - (1 + e) * px == 0); /* the computed orientation; the exact one is -2^-60 */
+    CHECK(tc_locate(s.L, px, py) == -1);
+    check_tile(&s, &vp, 1);
+    scene_free(&s);
+}
+
+/* Values beyond float's range on the exact path: a constant -1e300 (and +1e300) renders as
+ * -FLT_MAX (+FLT_MAX) in every owned pixel, as tile_float clamps a double, the sign kept;
+ * (float) alone would give an infinity. */
+TEST(raster_exact_path_clamps_keep_sign) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 47);
+    for (int k = 0; k < 2; k++) {
+        scene s;
+        tmesh_grid(&s.g, 3, 3, 0.2, -1, &rng);
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        double c = k ? 1e300 : -1e300;
+        for (int32_t v = 0; v < s.g.nv; v++) {
+            s.g.values[v] = c;
+            if (s.g.grads) s.g.grads[2 * v] = s.g.grads[2 * v + 1] = 0;
+        }
+        if (!scene_build(&s)) {
+            scene_free(&s);
+            continue;
+        }
+        tc_viewport vp = {0, 0, 1, 1, 24, 24};
+        float img[24 * 24];
+        int32_t own[24 * 24];
+        tc__raster_force_generic(2);
+        CHECK(tc_render(s.r, s.L, &vp, NULL, img, own) == TC_OK);
+        tc__raster_force_generic(0);
+        int bad = 0, owned = 0;
+        for (int p = 0; p < 24 * 24; p++)
+            if (own[p] >= 0) owned++, bad += img[p] != (k ? FLT_MAX : -FLT_MAX);
+        CHECK_MSG(owned == 24 * 24 && bad == 0, "%d of %d owned pixels not %s", bad, owned, k ? "FLT_MAX" : "-FLT_MAX");
+        scene_free(&s);
+    }
 }

@@ -130,3 +130,28 @@ TEST(strtod_fast_json_grammar) {
     CHECK(tc_strtod_fast("12345", 3, &d) == 3 && d == 123); /* not NUL-terminated: stops at len */
     CHECK(tc_strtod_fast("-12]", 4, &d) == 3 && d == -12);
 }
+
+/* Long exponents against many digits: the exponent's digits are accumulated up to a cap (the
+ * value is 0 or inf beyond it anyway), but the cap must be far above any digit count a body
+ * can carry. "0.<999 zeros>1e10000" is 10^9000 (inf) and "1<1000 zeros>e-10000" is 10^-9000
+ * (0); an exponent cut short at four digits (1000) would make both exactly 1.0. */
+TEST(strtod_fast_long_exponent_against_many_digits) {
+    enum { Z = 1000 };
+    char *buf = malloc(Z + 64);
+    if (!buf) return;
+    strcpy(buf, "0.");
+    memset(buf + 2, '0', Z - 1);
+    strcpy(buf + 2 + Z - 1, "1e10000");
+    double d = 0;
+    CHECK(tc_strtod_fast(buf, strlen(buf), &d) == strlen(buf) && d == INFINITY);
+    same_as_strtod(buf);
+    buf[0] = '1';
+    memset(buf + 1, '0', Z);
+    strcpy(buf + 1 + Z, "e-10000");
+    d = 1;
+    CHECK(tc_strtod_fast(buf, strlen(buf), &d) == strlen(buf) && d == 0 && !signbit(d));
+    same_as_strtod(buf);
+    strcpy(buf + 1 + Z, "e-1000"); /* exactly 1: the same digits, the exponent they balance */
+    CHECK(tc_strtod_fast(buf, strlen(buf), &d) == strlen(buf) && d == 1);
+    free(buf);
+}

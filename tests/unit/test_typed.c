@@ -294,6 +294,35 @@ TEST(typed_refusals_name_their_path) {
             "unknown encoding 'hex'");
 }
 
+/* The edges of a typed array's header: a length of exactly 2^53 is a length (the largest
+ * integer every smaller one of which a double holds; the field then refuses it as too many
+ * entries), 2^53 + 2 is not; a shape of exactly TC_TYPED_MAXDIM lengths is a shape (the field
+ * then refuses its rank), one more is not. Each refusal comes from the check that owns it,
+ * with its own message. */
+TEST(typed_header_limits_are_inclusive) {
+    REFUSED("values", "{\"dtype\":\"float64\",\"shape\":[9007199254740992],\"data\":\"\"}", TC_REQ_INVALID,
+            "values", "too many entries (9007199254740992, at most 2147483647)");
+    REFUSED("values", "{\"dtype\":\"float64\",\"shape\":[9007199254740994],\"data\":\"\"}", TC_REQ_MALFORMED,
+            "values", "shape[0]: expected a length");
+    REFUSED("values", "{\"dtype\":\"float64\",\"shape\":[4,1,1,1],\"data\":\"\"}", TC_REQ_MALFORMED, "values",
+            "shape [4, 1, 1, 1]: expected [n] or [n, C]");
+    REFUSED("values", "{\"dtype\":\"float64\",\"shape\":[4,1,1,1,1],\"data\":\"\"}", TC_REQ_MALFORMED, "values",
+            "shape: expected an array of 1 to 4 lengths");
+}
+
+/* A shape whose element count times the element size (8 bytes at most) would not fit in a
+ * size_t is refused as too many elements when the header is read: [2^31, 2^30] is 2^61
+ * elements, 2^64 bytes, which wraps to 0 and would match empty data. [2^30, 2^30] (2^63 bytes)
+ * still fits, and goes on to the field's own checks (too many channels here). */
+TEST(typed_shape_byte_count_overflow) {
+    REFUSED("values", "{\"dtype\":\"float64\",\"shape\":[2147483648,1073741824],\"data\":\"\"}", TC_REQ_INVALID,
+            "values", "shape: too many elements");
+    REFUSED("values", "{\"dtype\":\"float32\",\"shape\":[2147483648,1073741824],\"data\":\"\"}", TC_REQ_INVALID,
+            "values", "shape: too many elements");
+    REFUSED("values", "{\"dtype\":\"float64\",\"shape\":[1073741824,1073741824],\"data\":\"\"}", TC_REQ_INVALID,
+            "values", "channels, expected 1 to");
+}
+
 /* ---- answers with "encoding": "base64" --------------------------------------------- */
 
 /* The float64 array a typed answer member holds, checked for its shape; NULL if malformed. */
