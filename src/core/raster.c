@@ -28,6 +28,22 @@ void tc_viewport_pixel_center(const tc_viewport *vp, int32_t i, int32_t j, doubl
     *y = vp->y1 - (vp->y1 - vp->y0) * ((j + 0.5) / vp->height);
 }
 
+/* How far, in pixels, raster_cover.c's pixel_range widens a triangle's range of columns (or
+ * rows) along an axis [lo, hi] of n pixels: one pixel, for the rounding of its own index, and
+ * where the pixels are not many ulps wide also the rounding of the centres. A centre
+ * (tc_viewport_pixel_center) lies within a few ulps of |lo| + |hi| of where it would be
+ * exactly, and pixel_range's index of a coordinate a centre could equal is as close: together
+ * under 2^-48 (|lo| + |hi|) units, n (|lo| + |hi|) / (hi - lo) 2^-48 pixels, and the index's
+ * own rounding under (n + 2) 2^-48. Below 2^-8 of a pixel (a pixel wider than ~2^12 of the
+ * coordinates' ulps: every usual tile) it is left out, so their ranges are as they were; a
+ * tile zoomed deeper (several centres of a row the same double) got too narrow a range with
+ * the one pixel alone, and pixels on a triangle's edge went to its neighbour. Overflow: a NaN
+ * keeps one pixel (pixels ~1e300 wide), an infinity widens to the whole axis. */
+static double range_margin(double lo, double hi, int32_t n) {
+    double slack = (n * ((fabs(lo) + fabs(hi)) / (hi - lo)) + n + 2) * 0x1p-48;
+    return slack > 0x1p-8 ? 1 + slack : 1;
+}
+
 static int force_generic; /* tests (tc__raster_force_generic): 1 the portable covering, 2 no fast form */
 static atomic_long fast_setups; /* tests: triangles set up in the fast form while force_generic is set */
 
@@ -212,6 +228,7 @@ int tc_render(const tc_recon *r, const tc_locator *L, const tc_viewport *vp, con
     job jb = {.r = r, .L = L, .vp = vp, .ropt = ropt, .values = values, .owner = owner, .xs = xs, .ys = ys,
               .row0 = ropt->row0, .rows = rows, .grain_lo = grain_lo, .grain_hi = grain_hi, .nc = r->m->nc,
               .per_x = vp->width / (vp->x1 - vp->x0), .per_y = vp->height / (vp->y1 - vp->y0),
+              .margin_x = range_margin(vp->x0, vp->x1, vp->width), .margin_y = range_margin(vp->y0, vp->y1, vp->height),
               .fast_form = fast_form_here(), .threads = 1, .limit = limit,
               .cover_band = cover_band_here(),
               .fast_setups = force_generic ? &fast_setups : NULL};

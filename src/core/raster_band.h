@@ -30,6 +30,7 @@ typedef struct {
     int nc;              /* r->m->nc: read once, not behind two pointers in every four pixels */
     double per_x;        /* vp->width / (vp->x1 - vp->x0): pixels per unit along a row (guesses only) */
     double per_y;        /* vp->height / (vp->y1 - vp->y0): pixels per unit down a column (likewise) */
+    double margin_x, margin_y; /* pixel_range's widening along a row and down a column (range_margin) */
     int fast_form;       /* fast_form_here(), read once */
     void (*cover_band)(struct band *bd); /* tc__cover_band_avx2 or _portable, as the CPU allows */
     atomic_long *fast_setups; /* tests: where tri_setup counts its fast forms, or NULL */

@@ -30,10 +30,11 @@
 #endif
 
 /* Pixel index range [lo, hi] whose centres may fall in [a, b] along an axis of
- * n pixels starting at origin with the given step (widened by one pixel on each
- * side: the exact test below decides, this only has to be a superset). */
-static void pixel_range(double a, double b, double origin, double step, double per, int32_t n, int32_t *lo,
-                        int32_t *hi) {
+ * n pixels starting at origin with the given step, widened by m pixels on each side
+ * (the job's margin_x or margin_y: the rounding of the centres and of these indices, at
+ * least a pixel): the exact test below decides, this only has to be a superset. */
+static void pixel_range(double a, double b, double origin, double step, double per, int32_t n, double m,
+                        int32_t *lo, int32_t *hi) {
     /* Multiplied by the pixels per unit where that is finite (a division costs several
      * multiplications, and a tile of small triangles does this for every one), else divided:
      * per overflows for a subnormal step. */
@@ -45,7 +46,7 @@ static void pixel_range(double a, double b, double origin, double step, double p
      * is converted only when >= 0, where truncation is floor, and h only above -1, where
      * c + (c < h) is ceil. Adding or taking the 1 rounds by at most half an ulp of a number
      * below 2^31 where it is converted, so each side keeps its pixel of margin but ~2^-22. */
-    double l = (fa < fb ? fa : fb) - 1, h = (fa > fb ? fa : fb) + 1; /* fmin, fmax: calls */
+    double l = (fa < fb ? fa : fb) - m, h = (fa > fb ? fa : fb) + m; /* fmin, fmax: calls */
     *lo = !(l >= 0) ? 0 : l >= n ? n : (int32_t)l; /* NaN (never from finite input): the whole range */
     if (!(h <= n - 1)) {
         *hi = n - 1;
@@ -789,9 +790,10 @@ static void cover(void *ctx, const struct tc__slot *s) {
      * locator gives this band only for its neighbour's rows (the test below, made early). */
     if (jb->ys[bd->j0 - jb->row0] < ymin || jb->ys[bd->j1 - 1 - jb->row0] > ymax) return;
     int32_t i0, i1, j0, j1;
-    pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, jb->per_x, vp->width, &i0, &i1);
+    pixel_range(xmin, xmax, vp->x0, (vp->x1 - vp->x0) / vp->width, jb->per_x, vp->width, jb->margin_x, &i0, &i1);
     /* Rows count downwards from y1. */
-    pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, jb->per_y, vp->height, &j0, &j1);
+    pixel_range(-ymax, -ymin, -vp->y1, (vp->y1 - vp->y0) / vp->height, jb->per_y, vp->height, jb->margin_y, &j0,
+                &j1);
     /* The box that decides the path (few_centres, and with it the fast form), judged on the
      * tile's rows, not the band's: a pixel must not depend on how the tile is cut into bands
      * (tc_render_options.row0/rows, BAND_ROWS). */

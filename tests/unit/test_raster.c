@@ -1041,3 +1041,37 @@ TEST(raster_exact_path_clamps_keep_sign) {
         scene_free(&s);
     }
 }
+
+/* Pixels a quarter of an ulp wide (2^-34 near 2^20, where an ulp is 2^-32), so four centres of
+ * a row or a column are often one double: jittered 6 x 6 grids 24 ulps across with their
+ * vertices on the ulp grid, tiles of 32 x 32 pixels at several offsets, on the fast path, the
+ * portable one and the exact one. raster.c's range_margin: with one pixel of margin alone, a
+ * triangle's range of columns (pixel_range) missed the column of centres exactly on its right
+ * edge, which it owns (its left edge by the canonical direction), and the neighbour that only
+ * touches it took those pixels (20 of them, on all three paths). */
+TEST(raster_subulp_pixels_owned_as_located) {
+    trng rng;
+    trng_seed(&rng, tc_test_seed() + 45);
+    const double X = 0x1p20, u = 0x1p-34; /* a pixel */
+    for (int k = 0; k < 6; k++) {
+        scene s;
+        tmesh_grid(&s.g, 6, 6, 0.2, -1, &rng);
+        for (int32_t v = 0; v < s.g.nv; v++) /* 24 ulps across: cells of 4, corners moved by 1 at most */
+            for (int a = 0; a < 2; a++) s.g.xy[2 * v + a] = X + ldexp(nearbyint(s.g.xy[2 * v + a] * 24), -32);
+        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
+        if (!scene_build(&s)) {
+            scene_free(&s);
+            continue;
+        }
+        for (int t = 0; t < 4; t++) {
+            double ox = X + (double)(12 * t - 8 + 2 * (k % 3)) * u, oy = X + (double)(24 - 8 * t + 2 * (k % 2)) * u;
+            tc_viewport vp = {ox, oy, ox + 32 * u, oy + 32 * u, 32, 32};
+            for (int g = 0; g < 3; g++) {
+                tc__raster_force_generic(g);
+                check_tile(&s, &vp, 1 + t % 2);
+            }
+            tc__raster_force_generic(0);
+        }
+        scene_free(&s);
+    }
+}
