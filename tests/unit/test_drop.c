@@ -212,3 +212,48 @@ TEST(drop_ordinates_answer_has_null_entries) {
     tc_api_result_free(&res);
     tc_strbuf_free(&out);
 }
+
+/* ---- gaps found by mutation testing ------------------------------------------------------ */
+
+/* Segments on edges of the dropped zero-area triangle 1 = [0, 4, 1], found from
+ * either end and whichever corner the other end is (here the third, vertex 1):
+ * each is ignored with a warning naming triangles[1]. A segment on an edge of a
+ * kept triangle that a dropped one also has ([0, 1]: kept triangle 0's first
+ * edge) is flagged as usual, with no such warning. */
+TEST(drop_segment_on_dropped_edge_any_corner) {
+    tc_mesh_desc d = desc5();
+    int32_t start[4] = {0, 2, 4, 6};
+    const int32_t verts[6] = {4, 1, 1, 4, 0, 1};
+    d.c0 = (tc_polylines){3, start, verts};
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = NULL;
+    CHECK(tc_mesh_new(&d, &m, &dg) == TC_OK && dg.errors == 0);
+    CHECK(finding(&dg, "discontinuities.c0[0][0]", "segment [4, 1] is an edge only of triangles dropped as "
+                                                    "degenerate (triangles[1]): ignored") == TC_SEV_WARNING);
+    CHECK(finding(&dg, "discontinuities.c0[1][0]", "segment [1, 4] is an edge only of triangles dropped as "
+                                                    "degenerate (triangles[1]): ignored") == TC_SEV_WARNING);
+    for (int i = 0; i < dg.count; i++) /* whatever its path: [0, 1] is flagged, not ignored */
+        CHECK_MSG(!strstr(dg.items[i].message, "segment [0, 1]"), "%s: %s", dg.items[i].path, dg.items[i].message);
+    if (dg.errors) show(&dg);
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}
+
+/* More than eight dropped triangles: the warning lists the first eight given
+ * indices, then ", ...", and counts them all. */
+TEST(drop_warning_lists_eight) {
+    int32_t tris[3 * 11] = {0, 1, 2, 0, 2, 3};
+    for (int i = 2; i < 11; i++) tris[3 * i] = 0, tris[3 * i + 1] = 0, tris[3 * i + 2] = 1;
+    tc_mesh_desc d = desc5();
+    d.nverts = 4, d.ntris = 11, d.tris = tris;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = NULL;
+    CHECK(tc_mesh_new(&d, &m, &dg) == TC_OK && dg.errors == 0);
+    CHECK(finding(&dg, "triangles[2]", "9 degenerate triangles") == TC_SEV_WARNING);
+    CHECK(finding(&dg, "triangles[2]", ": 2, 3, 4, 5, 6, 7, 8, 9, ...;") == TC_SEV_WARNING);
+    if (dg.errors) show(&dg);
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}

@@ -275,3 +275,29 @@ TEST(invariants_asserts_compiled_out) {
     CHECK(calls == 0 && counted == 0);
 }
 #endif
+
+/* An interior edge flagged twice (by two c0 polylines, one running it each
+ * way) is still one flagged edge: the mesh's count of flagged interior edges
+ * agrees with its flags (tc__mesh_check). */
+TEST(invariants_edge_flagged_twice_counted_once) {
+    static const double xy[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    static const int32_t tri[6] = {0, 1, 2, 0, 2, 3};
+    static const double val[4] = {1, 2, 3, 4};
+    int32_t start[3] = {0, 2, 4};
+    static const int32_t verts[4] = {0, 2, 2, 0};
+    tc_mesh_desc d;
+    tc_mesh_desc_init(&d);
+    d.nverts = 4, d.xy = xy, d.ntris = 2, d.tris = tri, d.nchan = 1, d.values = val;
+    d.c0 = (tc_polylines){2, start, verts};
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = NULL;
+    CHECK(tc_mesh_new(&d, &m, &dg) == TC_OK);
+    if (m) {
+        char why[256] = "";
+        CHECK(m->nflagged == 1);
+        CHECK_MSG(tc__mesh_check(m, why, sizeof why) == 0, "mesh: %s", why);
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}

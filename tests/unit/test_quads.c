@@ -619,3 +619,54 @@ TEST(quads_api_ordinates_and_limits) {
     tc_api_result_free(&res);
     tc_strbuf_free(&out);
 }
+
+/* ---- gaps found by mutation testing ------------------------------------------------------ */
+
+/* Quad-specific refusals at their edges: an index equal to the vertex count is
+ * out of range, and a first corner repeated as the last is a repeated vertex
+ * (not reported as some geometric degeneracy). */
+TEST(quads_validation_index_bounds_and_last_corner) {
+    tc_mesh_desc d = two_quads();
+    int32_t range[] = {0, 1, 6, 3, 1, 2, 5, 4};
+    d.quads = range;
+    FAILS(&d, "quads[0][2]", "vertex index 6 out of range (6 vertices)");
+    int32_t last[] = {0, 1, 4, 0, 1, 2, 5, 4};
+    d.quads = last;
+    FAILS(&d, "quads[0]", "degenerate quad: a vertex appears twice in [0, 1, 4, 0]");
+}
+
+/* Errors found on the triangles a quad is split into name the quad: the second
+ * half of quads[0] (triangle 1) folded onto by quads[1] across their shared
+ * edge [2, 3] is "quads[0]", and a polyline along the diagonal of quads[1]
+ * (triangles 2 and 3) names quads[1]. */
+TEST(quads_findings_name_the_quad_of_either_half) {
+    const double xy[12] = {0, 0, 1, 0, 1, 1, 0, 1, 0, 0.5, 1, 0.5};
+    const int32_t quads[8] = {0, 1, 2, 3, 3, 2, 5, 4}; /* quads[1] lies on quads[0], clockwise */
+    const double v[6] = {1, 2, 3, 4, 5, 6};
+    tc_mesh_desc d = two_quads();
+    d.xy = xy, d.quads = quads, d.values = v;
+    FAILS(&d, "quads[1]", "overlaps quads[0]: both lie on the same side of their shared edge");
+    d = two_quads();
+    int32_t start[2] = {0, 2};
+    const int32_t diag[2] = {1, 5};
+    d.cm1 = (tc_polylines){1, start, diag};
+    FAILS(&d, "discontinuities.c-1[0][0]", "segment [1, 5] is the diagonal of quads[1]");
+}
+
+/* An unused vertex of a quad mesh is warned about in the mesh's own words. */
+TEST(quads_unused_vertex_says_quad) {
+    const double xy[14] = {0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1, 9, 9};
+    const double v[7] = {1, 2, 3, 4, 5, 6, 7};
+    tc_mesh_desc d = two_quads();
+    d.nverts = 7, d.xy = xy, d.values = v;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = NULL;
+    CHECK(tc_mesh_new(&d, &m, &dg) == TC_OK && dg.errors == 0 && dg.count == 1);
+    if (dg.count) {
+        CHECK_MSG(!strcmp(dg.items[0].path, "vertices[6]"), "path '%s'", dg.items[0].path);
+        CHECK_STR_CONTAINS(dg.items[0].message, "vertex 6 is used by no quad");
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}

@@ -1111,3 +1111,147 @@ TEST(validate_boundary_edge_flagged_c0_and_cm1) {
     d.cm1.count = 0;
     PASSES(&d);
 }
+
+/* ---- gaps found by mutation testing ------------------------------------------------------ */
+
+/* An edge shared by four triangles is reported once, from the lowest, naming the
+ * third triangle; the message lists the first three and says there are more
+ * (", ...") rather than pretending the list is complete. */
+TEST(validate_nonmanifold_edge_of_four_says_more) {
+    const double xy[12] = {0, 0, 1, 0, 1, 1, 0, 1, 2, 0, 0, 2};
+    const int32_t tri[12] = {0, 1, 2, 0, 2, 3, 0, 2, 4, 2, 0, 5};
+    const double v[6] = {1, 2, 3, 4, 5, 6};
+    tc_mesh_desc d = square();
+    d.nverts = 6, d.xy = xy, d.ntris = 4, d.tris = tri, d.values = v;
+    FAILS(&d, "triangles[2]", "non-manifold edge [2, 0]", "shared by 4 triangles (0, 1, 2, ...)");
+}
+
+/* Two separate closed fans, each with an extra triangle on its centre: the
+ * refusal names the first bad vertex (4, not 11) and counts the triangles of
+ * the closed turn (4), not every triangle at the vertex (5). */
+TEST(validate_closed_fan_first_vertex_and_count) {
+    double xy[28];
+    const double one[14] = {0, 0, 1, 0, 1, 1, 0, 1, 0.5, 0.5, 0.6, 0.9, 0.4, 0.9};
+    int32_t tri[30];
+    const int32_t fan[15] = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4, 4, 5, 6};
+    double v[14];
+    for (int i = 0; i < 14; i++) xy[i] = one[i], xy[14 + i] = one[i] + (i % 2 ? 0 : 3), v[i] = i % 7 == 4;
+    for (int i = 0; i < 15; i++) tri[i] = fan[i], tri[15 + i] = fan[i] + 7;
+    tc_mesh_desc d = square();
+    d.nverts = 14, d.xy = xy, d.ntris = 10, d.tris = tri, d.values = v;
+    FAILS(&d, "triangles[4]", "around vertex 4:", "4 of them close a full turn");
+}
+
+/* A polyline vertex equal to the vertex count is out of range (the bound is
+ * exclusive), and in a second polyline the path counts from that polyline's
+ * own start: discontinuities.c0[1][1], not the index into the flat array. */
+TEST(validate_polyline_vertex_range_bounds) {
+    int32_t st[2], verts[2] = {0, 4};
+    tc_mesh_desc d = square();
+    d.c0 = line(st, verts, 2);
+    FAILS(&d, "discontinuities.c0[0][1]", "index 4", "4 vertices");
+    int32_t start[3] = {0, 2, 4};
+    const int32_t two[4] = {0, 2, 2, 9};
+    d.c0 = (tc_polylines){2, start, two};
+    FAILS(&d, "discontinuities.c0[1][1]", "index 9", "4 vertices");
+}
+
+/* value_tolerance is accepted on the closed range [0, 1]: exactly 1 passes, just
+ * above it is refused. */
+TEST(validate_value_tolerance_range_ends) {
+    tc_mesh_desc d = square();
+    d.value_tolerance = 1;
+    PASSES(&d);
+    d.value_tolerance = 0;
+    PASSES(&d);
+    d.value_tolerance = 1.0000001;
+    FAILS(&d, "value_tolerance", "must be 0 to 1");
+}
+
+/* Vertex 0 unused (the triangles use 1..4): warned like any other vertex. */
+TEST(validate_unused_first_vertex_warns) {
+    const double xy[10] = {5, 5, 0, 0, 1, 0, 1, 1, 0, 1};
+    const int32_t tri[6] = {1, 2, 3, 1, 3, 4};
+    const double v[5] = {0, 1, 2, 3, 4};
+    tc_mesh_desc d = square();
+    d.nverts = 5, d.xy = xy, d.tris = tri, d.values = v;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    CHECK(dg.errors == 0 && dg.warnings == 1 && dg.count == 1);
+    if (dg.count) {
+        CHECK_MSG(!strcmp(dg.items[0].path, "vertices[0]"), "path '%s'", dg.items[0].path);
+        CHECK_STR_CONTAINS(dg.items[0].message, "vertex 0 is used by no triangle");
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}
+
+/* A corner the mask leaves out is not read: a non-finite number there is no
+ * error, whatever the mask says for the element's other corners. */
+TEST(validate_corner_gradient_mask_per_corner) {
+    int32_t tri = 0;
+    double cg[6] = {0, 0, INFINITY, 0, 0, 0};
+    uint8_t mask[3] = {1, 0, 1};
+    tc_mesh_desc d = square();
+    d.ncorner_gradients = 1, d.corner_gradients_tri = &tri, d.corner_gradients = cg, d.corner_gradients_mask = mask;
+    PASSES(&d);
+    mask[1] = 1;
+    FAILS(&d, "corner_gradients[0].gradients[1]", "not finite");
+}
+
+/* The sliver warning names the first of the worst: two slivers of exactly the
+ * same shape (one a translate of the other by exact offsets) report triangles[0].
+ * And a sliver whose aspect overflows (coordinates near the double range) is
+ * "beyond the double range", never a number. */
+TEST(validate_sliver_warning_names_first_worst) {
+    const double xy[12] = {0, 0, 1, 0, 0.5, 1e-5, 2, 0, 3, 0, 2.5, 1e-5};
+    const int32_t tri[6] = {0, 1, 2, 3, 4, 5};
+    const double v[6] = {1, 2, 3, 1, 2, 3};
+    tc_mesh_desc d = square();
+    d.nverts = 6, d.xy = xy, d.ntris = 2, d.tris = tri, d.values = v;
+    tc_diags dg;
+    tc_diags_init(&dg);
+    tc_mesh *m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    CHECK(dg.warnings == 1 && dg.count == 1);
+    if (dg.count) {
+        CHECK_MSG(!strcmp(dg.items[0].path, "triangles[0]"), "path '%s'", dg.items[0].path);
+        CHECK_STR_CONTAINS(dg.items[0].message, "2 triangles have an aspect ratio above 1e+04");
+    }
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+    const double big[10] = {1, 0, 1, 5, 1e308, 1, 1, 1, 2, 2};
+    const double bv[5] = {0, 1, 1, 2, 3};
+    const int32_t btri[12] = {0, 1, 1, 1, 3, 2, 2, 4, 3, 0, 3, 4};
+    d.nverts = 5, d.xy = big, d.ntris = 4, d.tris = btri, d.values = bv;
+    d.degenerate = TC_DEGENERATE_DROP;
+    tc_diags_init(&dg);
+    m = mesh_ok(__FILE__, __LINE__, &d, &dg);
+    int named = 0;
+    for (int i = 0; i < dg.count; i++)
+        if (strstr(dg.items[i].message, "aspect ratio")) {
+            named = 1;
+            CHECK_STR_CONTAINS(dg.items[i].message, "beyond the double range");
+        }
+    CHECK(named);
+    tc_mesh_free(m);
+    tc_diags_free(&dg);
+}
+
+/* Counts at the int32 limits are refused with TC_ELIMIT before any array is
+ * read (the arrays here are tiny: reading them as that long would crash):
+ * INT32_MAX vertices, INT32_MAX / 3 triangles, INT32_MAX / 6 quads. */
+TEST(validate_count_limits_refused_unread) {
+    tc_mesh_desc d = square();
+    tc_mesh *m = (tc_mesh *)&m;
+    d.nverts = INT32_MAX;
+    CHECK(tc_mesh_new(&d, &m, NULL) == TC_ELIMIT && m == NULL);
+    d = square();
+    d.ntris = INT32_MAX / 3;
+    CHECK(tc_mesh_new(&d, &m, NULL) == TC_ELIMIT && m == NULL);
+    d = square();
+    d.ntris = 0, d.nquads = INT32_MAX / 6, d.quads = SQ_TRI;
+    CHECK(tc_mesh_new(&d, &m, NULL) == TC_ELIMIT && m == NULL);
+    d = square();
+    PASSES(&d);
+}
