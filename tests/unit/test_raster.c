@@ -839,6 +839,20 @@ TEST(raster_tile_touching_mesh_boundary) {
     scene_free(&s);
 }
 
+/* One cell of tmesh_grid, triangles (v00, v10, v11) and (v00, v11, v01), its corners moved to
+ * xy (v00, v10, v01, v11), sampled and built: 1, or 0 with s freed. */
+static int quad_scene(scene *s, trng *rng, const double xy[4][2]) {
+    tmesh_grid(&s->g, 1, 1, 0, 0, rng);
+    for (int k = 0; k < 4; k++) {
+        int32_t v = tmesh_gv(1, k % 2, k / 2);
+        s->g.xy[2 * v] = xy[k][0], s->g.xy[2 * v + 1] = xy[k][1];
+    }
+    tmesh_sample(&s->g, 1, smooth_f, NULL, 1, 0, 0);
+    if (scene_build(s)) return 1;
+    scene_free(s);
+    return 0;
+}
+
 /* raster_cover.c's lattice_exact trusts the plain floating-point orientation of a triangle at
  * the tile's centres only when every corner and centre is a multiple of 2^g below 2^E with
  * E - g <= 25, so that no product rounds. Here E - g = 27 (multiples of 2^-26 below 2): the
@@ -850,21 +864,12 @@ TEST(raster_lattice_bound_beyond_exact_products) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 39);
     scene s;
-    tmesh_grid(&s.g, 1, 1, 0, 0, &rng); /* diagonal (0, 0) - (1, 1): vertices 0 and 3 */
     const double u = 0x1p-26;
     const double xy[4][2] = {{-111884504 * u, -124772064 * u}, /* A */
                              {1.75, -1.75},                    /* right of A -> B */
                              {-1.75, 1.75},                    /* left of it */
                              {-15904807 * u, 133141712 * u}};  /* B */
-    for (int k = 0; k < 4; k++) {
-        int32_t v = tmesh_gv(1, k % 2, k / 2);
-        s.g.xy[2 * v] = xy[k][0], s.g.xy[2 * v + 1] = xy[k][1];
-    }
-    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-    if (!scene_build(&s)) {
-        scene_free(&s);
-        return;
-    }
+    if (!quad_scene(&s, &rng, xy)) return; /* diagonal A - B */
     /* centres x_i = -1.5 + u + i / 16, y_j = 1.5 - u - j / 16: 48 x 48 of them, all below 2 */
     tc_viewport vp = {-1.5 + u - 1.0 / 32, 1.5 - u + 1.0 / 32 - 3, -1.5 + u - 1.0 / 32 + 3, 1.5 - u + 1.0 / 32, 48, 48};
     double px, py;
@@ -892,18 +897,9 @@ TEST(raster_edge_sign_rounded_product_not_trusted) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 40);
     scene s;
-    tmesh_grid(&s.g, 1, 1, 0, 0, &rng); /* triangles (v00, v10, v11), (v00, v11, v01) */
     const double c = 1000000007.0, d = 987654327.0, b = c * d * 0x1p-31;
     const double xy[4][2] = {{0, 0}, {0x1p31, c}, {0, 0x1p30}, {0x1p31, c + 0x1p30}}; /* v00 v10 v01 v11 */
-    for (int k = 0; k < 4; k++) {
-        int32_t v = tmesh_gv(1, k % 2, k / 2);
-        s.g.xy[2 * v] = xy[k][0], s.g.xy[2 * v + 1] = xy[k][1];
-    }
-    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-    if (!scene_build(&s)) {
-        scene_free(&s);
-        return;
-    }
+    if (!quad_scene(&s, &rng, xy)) return;
     __extension__ __int128 det = (__int128)(b * 0x1p31) - (__int128)1000000007 * 987654327; /* a b - c d */
     CHECK(det == -1); /* P strictly right of A -> B, outside the mesh */
     CHECK(0x1p31 * b - c * d == 0); /* while the computed orientation is 0 */
@@ -986,18 +982,9 @@ TEST(raster_lane_product_rounding_seen) {
     trng rng;
     trng_seed(&rng, tc_test_seed() + 44);
     scene s;
-    tmesh_grid(&s.g, 1, 1, 0, 0, &rng); /* triangles (v00, v10, v11), (v00, v11, v01) */
     const double e = 0x1p-30;
     const double xy[4][2] = {{0, 0}, {2, 1 + e}, {0, 2}, {2, 3}}; /* v00 v10 v01 v11 */
-    for (int k = 0; k < 4; k++) {
-        int32_t v = tmesh_gv(1, k % 2, k / 2);
-        s.g.xy[2 * v] = xy[k][0], s.g.xy[2 * v + 1] = xy[k][1];
-    }
-    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-    if (!scene_build(&s)) {
-        scene_free(&s);
-        return;
-    }
+    if (!quad_scene(&s, &rng, xy)) return;
     /* 40 x 40 centres of 1/16, pixel (16, 16) at P */
     tc_viewport vp = {-0.03125 + e, -0.96875 + e, 2.46875 + e, 1.53125 + e, 40, 40};
     double px, py;
