@@ -48,6 +48,15 @@ static void scene_free(scene *s) {
     tmesh_free(&s->g);
 }
 
+/* s->g sampled from smooth_f (one channel, gradients given) and built: 1, or 0 when the build
+ * failed (checked by scene_build) with s freed. */
+static int scene_ready(scene *s) {
+    tmesh_sample(&s->g, 1, smooth_f, NULL, 1, 0, 0);
+    if (scene_build(s)) return 1;
+    scene_free(s);
+    return 0;
+}
+
 /* The largest |ordinate| of channel ch: the data's scale, give or take the
  * cubic's swing inside the range it is limited to. */
 static double channel_scale(const tc_recon *r, int ch) {
@@ -130,11 +139,7 @@ TEST(raster_runs_match_locate_fuzz) {
         int n = 2 + trng_int(&rng, 14);
         tmesh_grid(&s.g, n, n, 0.3 * trng_uniform(&rng), -1, &rng);
         if (trng_int(&rng, 2)) tmesh_delaunay_flips(&s.g);
-        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        if (!scene_build(&s)) {
-            scene_free(&s);
-            continue;
-        }
+        if (!scene_ready(&s)) continue;
         double x0 = 1.2 * trng_uniform(&rng) - 0.3, y0 = 1.2 * trng_uniform(&rng) - 0.3;
         double w = 0.05 + trng_uniform(&rng), h = 0.05 + trng_uniform(&rng);
         tc_viewport vp = {x0, y0, x0 + w, y0 + h, 5 + trng_int(&rng, 120), 5 + trng_int(&rng, 120)};
@@ -591,11 +596,7 @@ TEST(raster_centres_exactly_on_vertices_and_edges) {
     int32_t row[9];
     for (int i = 0; i <= 8; i++) row[i] = tmesh_gv(8, i, 4);
     tmesh_add_line(&s.g, TC_C0, row, 9);
-    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-    if (!scene_build(&s)) {
-        scene_free(&s);
-        return;
-    }
+    if (!scene_ready(&s)) return;
     tc_viewport vp = {-1.0 / 128, -1.0 / 128, 1 - 1.0 / 128, 1 - 1.0 / 128, 64, 64};
     double x, y;
     tc_viewport_pixel_center(&vp, 8, 40, &x, &y);
@@ -623,11 +624,7 @@ TEST(raster_runs_on_lattice_edges) {
         double far = k == 19 ? 1e6 + 0.5 : 0;
         tmesh_grid(&s.g, n, n, 0, diag, &rng);
         for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] += far, s.g.xy[2 * v + 1] += far;
-        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        if (!scene_build(&s)) {
-            scene_free(&s);
-            continue;
-        }
+        if (!scene_ready(&s)) continue;
         double h = 1.0 / (n * per), shift = k % 3 == 0 ? 0 : k % 3 == 1 ? 0.5 * h : h;
         int w = n * per; /* centres exactly at i h + shift: on the lattice for dyadic h */
         tc_viewport vp = {far - 0.5 * h + shift, far - 0.5 * h, far + (w - 0.5) * h + shift, far + (w - 0.5) * h, w, w};
@@ -662,11 +659,7 @@ TEST(raster_certified_signs_near_edges) {
                 int32_t v = tmesh_gv(n, a, b);
                 tc_viewport_pixel_center(&vp, a * per, w - 1 - b * per, &s.g.xy[2 * v], &s.g.xy[2 * v + 1]);
             }
-        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        if (!scene_build(&s)) {
-            scene_free(&s);
-            continue;
-        }
+        if (!scene_ready(&s)) continue;
         check_tile(&s, &vp, 1 + k % 3);
         scene_free(&s);
     }
@@ -696,11 +689,7 @@ TEST(raster_across_bits_on_interior_edges) {
         tmesh_grid(&s.g, n, n, k == 3 ? 0.3 : 0, k % 3 == 2 ? -1 : k % 3, &rng);
         double scale = k == 1 ? 0x1p260 : 1;
         for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] *= scale, s.g.xy[2 * v + 1] *= scale;
-        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        if (!scene_build(&s)) {
-            scene_free(&s);
-            continue;
-        }
+        if (!scene_ready(&s)) continue;
         across_count c = {0, 0};
         const double lo[2] = {-INFINITY, -INFINITY}, hi[2] = {INFINITY, INFINITY};
         tc__locator_query_box(s.L, lo, hi, count_across, &c);
@@ -816,11 +805,7 @@ TEST(raster_tile_touching_mesh_boundary) {
     trng_seed(&rng, tc_test_seed() + 38);
     scene s;
     tmesh_grid(&s.g, 4, 4, 0, -1, &rng);
-    tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-    if (!scene_build(&s)) {
-        scene_free(&s);
-        return;
-    }
+    if (!scene_ready(&s)) return;
     const double e = 1.0 / 16; /* half a pixel of 1/8 */
     const tc_viewport vps[4] = {
         {-1 + e, e, e, 1 + e, 8, 8},          /* last column at x = 0 */
@@ -840,17 +825,14 @@ TEST(raster_tile_touching_mesh_boundary) {
 }
 
 /* One cell of tmesh_grid, triangles (v00, v10, v11) and (v00, v11, v01), its corners moved to
- * xy (v00, v10, v01, v11), sampled and built: 1, or 0 with s freed. */
+ * xy (v00, v10, v01, v11), then scene_ready. */
 static int quad_scene(scene *s, trng *rng, const double xy[4][2]) {
     tmesh_grid(&s->g, 1, 1, 0, 0, rng);
     for (int k = 0; k < 4; k++) {
         int32_t v = tmesh_gv(1, k % 2, k / 2);
         s->g.xy[2 * v] = xy[k][0], s->g.xy[2 * v + 1] = xy[k][1];
     }
-    tmesh_sample(&s->g, 1, smooth_f, NULL, 1, 0, 0);
-    if (scene_build(s)) return 1;
-    scene_free(s);
-    return 0;
+    return scene_ready(s);
 }
 
 /* raster_cover.c's lattice_exact trusts the plain floating-point orientation of a triangle at
@@ -926,11 +908,7 @@ TEST(raster_slivers_not_in_fast_form) {
         double st = k ? 30 : 1;
         tmesh_grid(&s.g, 8, 8, 0.2, -1, &rng);
         for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] *= st, s.g.xy[2 * v + 1] /= st;
-        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        if (!scene_build(&s)) {
-            scene_free(&s);
-            continue;
-        }
+        if (!scene_ready(&s)) continue;
         tc_viewport vp = {-0.01 * st, -0.01 / st, 1.01 * st, 1.01 / st, 64, 64};
         tc__raster_force_generic(1); /* the fast form's portable build, counting its setups */
         check_tile(&s, &vp, 1);
@@ -955,11 +933,7 @@ TEST(raster_across_bits_small_coordinates) {
         tmesh_grid(&s.g, n, n, 0, k, &rng);
         double scale = k ? 0x1p-240 : 0x1p-255;
         for (int32_t v = 0; v < s.g.nv; v++) s.g.xy[2 * v] *= scale, s.g.xy[2 * v + 1] *= scale;
-        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        if (!scene_build(&s)) {
-            scene_free(&s);
-            continue;
-        }
+        if (!scene_ready(&s)) continue;
         across_count c = {0, 0};
         const double lo[2] = {-INFINITY, -INFINITY}, hi[2] = {INFINITY, INFINITY};
         tc__locator_query_box(s.L, lo, hi, count_across, &c);
@@ -1045,11 +1019,7 @@ TEST(raster_subulp_pixels_owned_as_located) {
         tmesh_grid(&s.g, 6, 6, 0.2, -1, &rng);
         for (int32_t v = 0; v < s.g.nv; v++) /* 24 ulps across: cells of 4, corners moved by 1 at most */
             for (int a = 0; a < 2; a++) s.g.xy[2 * v + a] = X + ldexp(nearbyint(s.g.xy[2 * v + a] * 24), -32);
-        tmesh_sample(&s.g, 1, smooth_f, NULL, 1, 0, 0);
-        if (!scene_build(&s)) {
-            scene_free(&s);
-            continue;
-        }
+        if (!scene_ready(&s)) continue;
         for (int t = 0; t < 4; t++) {
             double ox = X + (double)(12 * t - 8 + 2 * (k % 3)) * u, oy = X + (double)(24 - 8 * t + 2 * (k % 2)) * u;
             tc_viewport vp = {ox, oy, ox + 32 * u, oy + 32 * u, 32, 32};
