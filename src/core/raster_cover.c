@@ -44,8 +44,8 @@ static void pixel_range(double a, double b, double origin, double step, double p
     /* floor(least - 1) and ceil(most + 1), clamped, by the conversion's truncation (floor's and
      * ceil's inline code, with the divisions, made this function 14% of a dense tile's time): l
      * is converted only when >= 0, where truncation is floor, and h only above -1, where
-     * c + (c < h) is ceil. Adding or taking the 1 rounds by at most half an ulp of a number
-     * below 2^31 where it is converted, so each side keeps its pixel of margin but ~2^-22. */
+     * c + (c < h) is ceil. Adding or taking m rounds by at most half an ulp of a number
+     * below 2^31 where it is converted, so each side keeps its margin but ~2^-22 of a pixel. */
     double l = (fa < fb ? fa : fb) - m, h = (fa > fb ? fa : fb) + m; /* fmin, fmax: calls */
     *lo = !(l >= 0) ? 0 : l >= n ? n : (int32_t)l; /* NaN (never from finite input): the whole range */
     if (!(h <= n - 1)) {
